@@ -1,0 +1,32 @@
+#include "bsdfs/lambertian.h"
+
+#include "core/sampling.h"
+
+namespace pl {
+
+Spectrum Lambertian::eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const {
+  Vec3 o = wo, i = wi;
+  if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
+  return albedo_.eval(uv) * kInvPi;
+}
+
+float Lambertian::pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const {
+  Vec3 o = wo, i = wi;
+  if (!flipToUpperHemisphere(o, i)) return 0.0f;
+  return pdfCosineHemisphere(i);
+}
+
+bool Lambertian::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float, TransportMode,
+                        BSDFSample* s) const {
+  if (wo.z == 0) return false;
+  Vec3 wi = sampleCosineHemisphere(u);
+  s->pdf = pdfCosineHemisphere(wi);
+  if (s->pdf <= 0) return false;
+  if (wo.z < 0) wi.z = -wi.z;
+  s->wi = wi;
+  s->weight = albedo_.eval(uv);  // (ρ/π)·cosθ / (cosθ/π)
+  s->delta = false;
+  return true;
+}
+
+}  // namespace pl

@@ -1,0 +1,23 @@
+#pragma once
+#include "bsdfs/bsdf.h"
+#include "scene/texture.h"
+
+namespace pl {
+
+// Perfect specular reflector: wi = 2(N·wo)N − wo, reflectance by Schlick's Fresnel with
+// F0 = baseColor (a polished metal; F0 = 1 is an ideal mirror).
+class Mirror final : public BSDF {
+ public:
+  explicit Mirror(ColorTexture F0) : F0_(std::move(F0)) {}
+  Spectrum eval(const Vec3&, const Vec3&, const Vec2&) const override { return Spectrum(0.0f); }
+  float pdf(const Vec3&, const Vec3&, const Vec2&) const override { return 0.0f; }
+  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
+              BSDFSample* s) const override;
+  bool isDelta() const override { return true; }
+  const char* name() const override { return "mirror"; }
+
+ private:
+  ColorTexture F0_;
+};
+
+}  // namespace pl

@@ -1,0 +1,87 @@
+// `photonlab bench`: the ceiling (bare Embree incoherent rays on the scene) and what the path
+// tracer achieves against it, single-threaded and on all cores.
+#include <chrono>
+#include <cstdio>
+
+#include "core/parallel.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+
+namespace pl {
+
+namespace {
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Rays per second of rtcIntersect1 alone: random origins inside the scene's bounds and
+// uniformly random directions (maximally incoherent), generated before timing.
+double embreeRaysPerSecond(const Scene& scene, int threads) {
+  const size_t chunk = 1 << 16, chunks = 64;
+  std::vector<Ray> rays(chunk);
+  Rng rng(7, 1);
+  const Bounds& b = scene.bounds();
+  Vec3 lo = b.lo + 0.05f * (b.hi - b.lo), ext = 0.9f * (b.hi - b.lo);
+  for (auto& r : rays) {
+    r.o = lo + ext * Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+    r.d = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+  }
+  std::vector<uint64_t> hits(threads, 0);
+  auto t0 = std::chrono::steady_clock::now();
+  parallelFor(chunks, threads, [&](size_t, int t) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (const Ray& r : rays) {
+      RTCRayHit rh;
+      rh.ray.org_x = r.o.x, rh.ray.org_y = r.o.y, rh.ray.org_z = r.o.z;
+      rh.ray.dir_x = r.d.x, rh.ray.dir_y = r.d.y, rh.ray.dir_z = r.d.z;
+      rh.ray.tnear = 0, rh.ray.tfar = INFINITY, rh.ray.time = 0, rh.ray.mask = 0xFFFFFFFFu;
+      rh.ray.id = 0, rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene.embreeScene(), &context, &rh);
+      hits[t] += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+  });
+  double s = seconds(t0);
+  return double(chunk * chunks) / s;
+}
+
+struct PathRate {
+  double samplesPerSecond, raysPerSecond;
+};
+
+PathRate pathTracerRate(const Scene& scene, int threads, int spp) {
+  auto integrator = makeIntegrator("path", IntegratorOptions{});
+  RenderOptions o;
+  o.width = o.height = 256;
+  o.spp = spp;
+  o.threads = threads;
+  uint64_t rays0 = Scene::raysTraced();
+  RenderStats stats;
+  render(scene, *integrator, o, &stats);
+  uint64_t rays = Scene::raysTraced() - rays0;
+  return {256.0 * 256.0 * stats.spp / stats.seconds, rays / stats.seconds};
+}
+
+}  // namespace
+
+int runBench(const std::string& scenePath, int threads, int spp) {
+  auto scene = loadGltf(scenePath);
+  int all = resolveThreads(threads);
+  std::printf("photonlab bench: %s (%zu triangles), path tracer at 256x256, %d spp\n\n", scenePath.c_str(),
+              scene->triangleCount(), spp);
+  std::printf("| measure | 1 thread | %d threads |\n|---|---|---|\n", all);
+  embreeRaysPerSecond(*scene, all);  // warm-up
+  double e1 = embreeRaysPerSecond(*scene, 1), eN = embreeRaysPerSecond(*scene, all);
+  std::printf("| bare Embree incoherent rays (M rays/s) | %.2f | %.2f |\n", e1 / 1e6, eN / 1e6);
+  PathRate p1 = pathTracerRate(*scene, 1, spp), pN = pathTracerRate(*scene, all, spp);
+  std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", p1.samplesPerSecond / 1e3, pN.samplesPerSecond / 1e3);
+  std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", p1.raysPerSecond / 1e6, pN.raysPerSecond / 1e6);
+  std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * p1.raysPerSecond / e1, 100 * pN.raysPerSecond / eN);
+  return 0;
+}
+
+}  // namespace pl

@@ -1,0 +1,168 @@
+// photonlab command line: render, info, compare, bench. Every user error ends as one line on
+// stderr ("photonlab: FILE: ELEMENT: what") and exit code 1; no output file is left behind.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "io/image_io.h"
+#include "io/metrics.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+
+namespace pl {
+int runBench(const std::string& scenePath, int threads, int spp);
+}
+
+using namespace pl;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::unique_ptr<Scene> loadScene(const std::string& path) {
+  std::vector<std::string> warnings;
+  auto scene = loadGltf(path, &warnings);
+  for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  return scene;
+}
+
+void checkOutputPath(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  if (ext != ".exr" && ext != ".png") throw Error(path + ": -o: output must end in .exr or .png");
+  fs::path dir = fs::path(path).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
+}
+
+std::string formatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, const std::string& integratorName,
+              RenderOptions options, IntegratorOptions integratorOptions, bool quiet) {
+  for (auto& o : outputs) checkOutputPath(o);
+  auto integrator = makeIntegrator(integratorName, integratorOptions);  // validates the name first
+  auto scene = loadScene(scenePath);
+  resolveResolution(scene->camera(), options);
+  RenderStats stats;
+  ImageRGB image = render(*scene, *integrator, options, &stats);
+  std::map<std::string, std::string> meta = {
+      {"integrator", integratorName},       {"spp", std::to_string(stats.spp)},
+      {"seed", std::to_string(options.seed)}, {"seconds", formatNumber(stats.seconds)},
+      {"scene", scenePath},                  {"max_depth", std::to_string(integratorOptions.maxDepth)},
+      {"width", std::to_string(options.width)}, {"height", std::to_string(options.height)}};
+  for (auto& o : outputs) writeImage(o, image, meta);
+  if (stats.nonFiniteSamples)
+    std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)stats.nonFiniteSamples);
+  if (!quiet)
+    std::fprintf(stderr, "%s: %dx%d, %d spp, %.2f s -> %s\n", integratorName.c_str(), options.width, options.height,
+                 stats.spp, stats.seconds, outputs.front().c_str());
+  return 0;
+}
+
+int cmdInfo(const std::string& scenePath) {
+  auto scene = loadScene(scenePath);
+  const Bounds& b = scene->bounds();
+  std::printf("scene: %s\n", scenePath.c_str());
+  std::printf("triangles: %zu\n", scene->triangleCount());
+  std::printf("bounds: [%g, %g, %g] - [%g, %g, %g] m\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+  const Camera& c = scene->camera();
+  std::printf("camera: position [%g, %g, %g], forward [%g, %g, %g], yfov %g rad, aspect %g\n", c.position.x,
+              c.position.y, c.position.z, c.forward.x, c.forward.y, c.forward.z, c.yfov, c.aspectRatio);
+  std::printf("materials: %zu\n", scene->materials().size());
+  for (auto& m : scene->materials())
+    std::printf("  %-24s %-11s%s\n", m.name.c_str(), m.bsdf->name(),
+                isBlack(m.emission) ? "" : (" emits Le = [" + formatNumber(m.emission.r) + ", " + formatNumber(m.emission.g) + ", " + formatNumber(m.emission.b) + "] W/(m2 sr)").c_str());
+  // Area lights are one per emissive triangle: summarise them by kind.
+  std::map<std::string, std::pair<int, Spectrum>> byKind;
+  for (auto& l : scene->lights()) {
+    auto& e = byKind[l->name()];
+    e.first++;
+    e.second += l->power();
+  }
+  std::printf("lights: %zu\n", scene->lights().size());
+  for (auto& [kind, e] : byKind)
+    std::printf("  %-12s x%-6d power [%g, %g, %g] W\n", kind.c_str(), e.first, e.second.r, e.second.g, e.second.b);
+  Spectrum total = scene->totalPower();
+  std::printf("total power: [%g, %g, %g] W\n", total.r, total.g, total.b);
+  return 0;
+}
+
+int cmdCompare(const std::string& imagePath, const std::string& referencePath) {
+  ErrorMetrics m = compareImages(readImage(imagePath), readImage(referencePath));
+  std::printf("{\"rmse\": %s, \"relmse\": %s, \"mae\": %s, \"mean_ratio\": %s}\n", formatNumber(m.rmse).c_str(),
+              formatNumber(m.relmse).c_str(), formatNumber(m.mae).c_str(), formatNumber(m.meanRatio).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"photonlab: light transport by photon mapping, with a path-traced ground truth"};
+  app.require_subcommand(1);
+
+  std::string scenePath, integratorName = "path";
+  std::vector<std::string> outputs;
+  RenderOptions options;
+  IntegratorOptions integratorOptions;
+  bool quiet = false;
+  auto* render = app.add_subcommand("render", "Render a glTF scene to EXR (linear) and/or PNG (sRGB)");
+  render->add_option("scene", scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
+  render->add_option("-o,--output", outputs, "Output image(s): .exr or .png; repeat for both")->required();
+  render->add_option("--integrator", integratorName, "direct | whitted | path")->capture_default_str();
+  render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
+  render->add_option("--height", options.height, "Image height in pixels");
+  auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
+  render->add_option("--time", options.timeLimit, "Stop at the first sample boundary after this many seconds");
+  render->add_option("--seed", options.seed, "Random seed")->capture_default_str();
+  render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
+  render->add_option("--max-depth", integratorOptions.maxDepth, "Maximum number of bounces")->capture_default_str();
+  render->add_flag("-q,--quiet", quiet, "No summary line");
+
+  auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds");
+  std::string infoScene;
+  info->add_option("scene", infoScene, "glTF 2.0 scene")->required();
+
+  auto* compare = app.add_subcommand("compare", "Error metrics of IMAGE against REFERENCE, as one JSON object");
+  std::string imagePath, referencePath;
+  compare->add_option("image", imagePath)->required();
+  compare->add_option("reference", referencePath)->required();
+
+  auto* bench = app.add_subcommand("bench", "Embree ray rate and path-tracer throughput (README, Performance)");
+  std::string benchScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
+  int benchThreads = 0, benchSpp = 8;
+  bench->add_option("--scene", benchScene)->capture_default_str();
+  bench->add_option("--threads", benchThreads, "Threads for the multi-threaded column (0 = all cores)");
+  bench->add_option("--spp", benchSpp, "Path-tracer samples per pixel at 256x256")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "photonlab: %s\n", e.what());
+    return 1;
+  }
+
+  try {
+    if (*render) {
+      if (options.width < 0 || options.height < 0) throw Error("--width/--height: must be positive");
+      if (options.spp < 1) throw Error("--spp: must be at least 1");
+      if (!(options.timeLimit >= 0) || !std::isfinite(options.timeLimit)) throw Error("--time: must be ≥ 0 seconds");
+      if (options.threads < 0) throw Error("--threads: must be ≥ 0");
+      if (integratorOptions.maxDepth < 0) throw Error("--max-depth: must be ≥ 0");
+      if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
+      options.progress = !quiet;
+      return cmdRender(scenePath, outputs, integratorName, options, integratorOptions, quiet);
+    }
+    if (*info) return cmdInfo(infoScene);
+    if (*compare) return cmdCompare(imagePath, referencePath);
+    if (*bench) return runBench(benchScene, benchThreads, benchSpp);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "photonlab: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

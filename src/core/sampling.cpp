@@ -1,0 +1,84 @@
+#include "core/sampling.h"
+
+#include <algorithm>
+
+namespace pl {
+
+Vec2 sampleConcentricDisc(const Vec2& u) {
+  Vec2 o = 2.0f * u - Vec2(1.0f);
+  if (o.x == 0 && o.y == 0) return Vec2(0);
+  float r, theta;
+  if (std::abs(o.x) > std::abs(o.y)) {
+    r = o.x;
+    theta = (kPi / 4) * (o.y / o.x);
+  } else {
+    r = o.y;
+    theta = kPi / 2 - (kPi / 4) * (o.x / o.y);
+  }
+  return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+Vec3 sampleCosineHemisphere(const Vec2& u) {
+  Vec2 d = sampleConcentricDisc(u);
+  float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+  return Vec3(d.x, d.y, z);
+}
+
+Vec3 sampleUniformSphere(const Vec2& u) {
+  float z = 1.0f - 2.0f * u.x;
+  float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  float phi = 2 * kPi * u.y;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+Vec3 sampleUniformCone(const Vec2& u, float cosThetaMax) {
+  float cosTheta = 1.0f - u.x * (1.0f - cosThetaMax);
+  float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  float phi = 2 * kPi * u.y;
+  return Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+Vec3 samplePowerCosine(const Vec2& u, float n) {
+  // Invert the CDF of cosθ: P(cosθ > μ) = 1 − μ^(n+1).
+  float cosTheta = std::pow(1.0f - u.x, 1.0f / (n + 1.0f));
+  float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  float phi = 2 * kPi * u.y;
+  return Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+Vec2 sampleUniformTriangle(const Vec2& u) {
+  // Heitz 2019, "A low-distortion map between triangle and square".
+  float b0, b1;
+  if (u.x < u.y) {
+    b0 = u.x / 2;
+    b1 = u.y - b0;
+  } else {
+    b1 = u.y / 2;
+    b0 = u.x - b1;
+  }
+  return Vec2(b0, b1);
+}
+
+Distribution1D::Distribution1D(const std::vector<float>& weights) {
+  weights_.assign(weights.begin(), weights.end());
+  cdf_.resize(weights_.size());
+  double sum = 0;
+  for (size_t i = 0; i < weights_.size(); ++i) {
+    sum += std::max(0.0, weights_[i]);
+    cdf_[i] = sum;
+  }
+  total_ = sum;
+}
+
+size_t Distribution1D::sample(float u, float* pmfOut, float* uRemapped) const {
+  double target = double(u) * total_;
+  size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
+  i = std::min(i, cdf_.size() - 1);
+  while (i > 0 && weights_[i] <= 0) --i;  // never return a zero-weight item
+  double lo = i ? cdf_[i - 1] : 0.0;
+  if (pmfOut) *pmfOut = float(weights_[i] / total_);
+  if (uRemapped) *uRemapped = float(std::min((target - lo) / weights_[i], 0.99999994));
+  return i;
+}
+
+}  // namespace pl

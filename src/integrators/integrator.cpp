@@ -1,0 +1,39 @@
+#include "integrators/integrator.h"
+
+#include "integrators/direct.h"
+#include "integrators/path.h"
+#include "integrators/whitted.h"
+
+namespace pl {
+
+std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options) {
+  if (name == "direct") return std::make_unique<DirectIntegrator>();
+  if (name == "whitted") return std::make_unique<WhittedIntegrator>(options.maxDepth);
+  if (name == "path") return std::make_unique<PathIntegrator>(options.maxDepth);
+  throw Error("--integrator: unknown integrator '" + name + "'");
+}
+
+std::vector<std::string> integratorNames() { return {"direct", "whitted", "path"}; }
+
+Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis) {
+  const Distribution1D& dist = scene.lightDistribution();
+  if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
+  float pmf;
+  size_t index = dist.sample(rng.uniform(), &pmf);
+  const Light& light = *scene.lights()[index];
+  Vec2 u(rng.uniform(), rng.uniform());
+  LightSample ls;
+  if (!light.sampleLi(hit.p, u, &ls)) return Spectrum(0.0f);
+  Vec3 wi = hit.shading.toLocal(ls.wi);
+  Spectrum f = hit.bsdf->eval(woLocal, wi, hit.uv);
+  if (isBlack(f)) return Spectrum(0.0f);
+  // A light below the geometric surface cannot reach it, whatever the shading normal says.
+  if (glm::dot(ls.wi, hit.ng) * glm::dot(hit.shading.toWorld(woLocal), hit.ng) <= 0) return Spectrum(0.0f);
+  if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
+  float lightPdf = pmf * ls.pdf;
+  float weight = 1.0f;
+  if (mis && !light.isDelta()) weight = powerHeuristic(lightPdf, hit.bsdf->pdf(woLocal, wi, hit.uv));
+  return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
+}
+
+}  // namespace pl

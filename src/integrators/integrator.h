@@ -1,0 +1,38 @@
+// The integrator interface: radiance arriving along a camera ray. Each integrator is one file;
+// makeIntegrator() is the only place that knows them all.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "scene/scene.h"
+
+namespace pl {
+
+struct IntegratorOptions {
+  int maxDepth = 64;  // maximum number of bounces (path segments after the camera ray)
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
+  virtual const char* name() const = 0;
+};
+
+std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
+std::vector<std::string> integratorNames();
+
+// Next-event estimation at a non-delta surface point: one light chosen by power, one point on
+// it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by
+// the power heuristic against BSDF sampling (Veach 1997); delta lights always get weight 1.
+Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis);
+
+// Power heuristic with β = 2.
+inline float powerHeuristic(float pdfA, float pdfB) {
+  float a = pdfA * pdfA, b = pdfB * pdfB;
+  return a + b > 0 ? a / (a + b) : 0.0f;
+}
+
+}  // namespace pl

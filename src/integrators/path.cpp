@@ -1,0 +1,55 @@
+#include "integrators/path.h"
+
+namespace pl {
+
+Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) const {
+  Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
+  Ray ray = cameraRay;
+  bool specularBounce = true;  // the camera ray counts as "specular": emitters get full weight
+  float bsdfPdf = 0.0f;
+  Vec3 previousPoint = ray.o;
+  for (int depth = 0;; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) break;
+
+    // Emission found by BSDF sampling; next-event estimation already counted the same light
+    // from the previous vertex, so weight both by MIS.
+    if (hit.light) {
+      Spectrum Le = hit.light->L(-ray.d);
+      if (specularBounce) {
+        L += beta * Le;
+      } else if (!isBlack(Le)) {
+        float lightPdf = scene.lightDistribution().pmf(size_t(hit.lightIndex)) * hit.light->pdfLi(previousPoint, hit.p);
+        L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
+      }
+    }
+    if (depth >= maxDepth_) break;
+
+    Vec3 wo = hit.shading.toLocal(-ray.d);
+    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, rng, true);
+
+    BSDFSample bs;
+    Vec2 u(rng.uniform(), rng.uniform());
+    if (!hit.bsdf->sample(wo, hit.uv, u, rng.uniform(), TransportMode::Radiance, &bs)) break;
+    Vec3 wi = hit.shading.toWorld(bs.wi);
+    // Reject directions that the shading normal allows but the geometry does not (light leaks).
+    bool transmitted = bs.wi.z * wo.z < 0;
+    if ((glm::dot(wi, hit.ng) * glm::dot(-ray.d, hit.ng) < 0) != transmitted) break;
+    beta *= bs.weight;
+    specularBounce = bs.delta;
+    bsdfPdf = bs.pdf;
+    previousPoint = hit.p;
+    ray = scene.spawnRay(hit, wi);
+
+    // Russian roulette: continue with probability q = min(1, max β), dividing by q keeps the
+    // estimator unbiased.
+    if (depth >= 3) {
+      float q = std::min(1.0f, maxComponent(beta));
+      if (q <= 0 || rng.uniform() >= q) break;
+      beta /= q;
+    }
+  }
+  return L;
+}
+
+}  // namespace pl

@@ -1,0 +1,32 @@
+#include "integrators/whitted.h"
+
+namespace pl {
+
+Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, Rng& rng, int depth) const {
+  SurfaceHit hit;
+  if (!scene.intersect(ray, &hit)) return Spectrum(0.0f);
+  Spectrum L(0.0f);
+  if (hit.light) L += hit.light->L(-ray.d);
+  Vec3 wo = hit.shading.toLocal(-ray.d);
+  if (!hit.bsdf->isDelta()) return L + estimateDirect(scene, hit, wo, rng, false);
+  if (depth >= maxDepth_) return L;
+  // Enumerate the specular lobes deterministically: uc = 0 picks reflection whenever it has
+  // any probability, uc → 1 picks transmission whenever it exists. The lobe's contribution is
+  // weight × probability (e.g. F·1 for reflection, (1−F)/η² for refraction).
+  BSDFSample lobes[2];
+  int count = 0;
+  for (float uc : {0.0f, 0.99999994f}) {
+    BSDFSample s;
+    if (!hit.bsdf->sample(wo, hit.uv, Vec2(0.5f), uc, TransportMode::Radiance, &s)) continue;
+    if (count == 1 && glm::all(glm::equal(s.wi, lobes[0].wi))) continue;  // single-lobe BSDF
+    lobes[count++] = s;
+  }
+  for (int i = 0; i < count; ++i) {
+    Spectrum w = lobes[i].weight * lobes[i].pdf;
+    if (isBlack(w)) continue;
+    L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, rng, depth + 1);
+  }
+  return L;
+}
+
+}  // namespace pl

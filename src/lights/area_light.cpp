@@ -1,0 +1,60 @@
+#include "lights/area_light.h"
+
+#include "core/frame.h"
+#include "core/sampling.h"
+
+namespace pl {
+
+AreaLight::AreaLight(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Spectrum& Le, bool twoSided)
+    : p0_(p0), p1_(p1), p2_(p2), Le_(Le), twoSided_(twoSided) {
+  Vec3 c = glm::cross(p1 - p0, p2 - p0);
+  float len = glm::length(c);
+  area_ = 0.5f * len;
+  n_ = len > 0 ? c / len : Vec3(0, 0, 1);
+}
+
+bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
+  if (area_ <= 0) return false;
+  Vec2 b = sampleUniformTriangle(u);
+  Vec3 y = b.x * p0_ + b.y * p1_ + (1 - b.x - b.y) * p2_;
+  Vec3 d = y - p;
+  float r2 = glm::dot(d, d);
+  if (r2 <= 0) return false;
+  s->distance = std::sqrt(r2);
+  s->wi = d / s->distance;
+  float cosLight = glm::dot(n_, -s->wi);
+  s->Li = L(-s->wi);
+  if (cosLight == 0 || isBlack(s->Li)) return false;
+  s->pdf = r2 / (area_ * std::abs(cosLight));
+  return true;
+}
+
+float AreaLight::pdfLi(const Vec3& p, const Vec3& y) const {
+  Vec3 d = y - p;
+  float r2 = glm::dot(d, d);
+  float cosLight = std::abs(glm::dot(n_, d)) / std::sqrt(r2);
+  return cosLight > 0 && area_ > 0 ? r2 / (area_ * cosLight) : 0.0f;
+}
+
+EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection) const {
+  Vec2 b = sampleUniformTriangle(uPosition);
+  Vec3 y = b.x * p0_ + b.y * p1_ + (1 - b.x - b.y) * p2_;
+  Vec2 u = uDirection;
+  Vec3 n = n_;
+  float sides = 1.0f;
+  if (twoSided_) {  // pick a face with probability 1/2, reusing the sample
+    sides = 2.0f;
+    if (u.x < 0.5f) {
+      u.x *= 2.0f;
+    } else {
+      u.x = (u.x - 0.5f) * 2.0f;
+      n = -n;
+    }
+    u.x = std::min(u.x, 0.99999994f);
+  }
+  Vec3 dir = Frame(n).toWorld(sampleCosineHemisphere(u));
+  // flux = Le cosθ / (pdf_A · pdf_ω) = Le cosθ · A · π / cosθ (× 2 faces) = Φ.
+  return {Ray{y, dir}, Le_ * (kPi * area_ * sides)};
+}
+
+}  // namespace pl

@@ -1,0 +1,37 @@
+// The light interface. Every light knows its power Φ (W, per RGB channel), can sample a
+// direction towards a shading point (next-event estimation) and can sample an emitted ray whose
+// flux has expectation Φ (photon tracing).
+#pragma once
+#include "core/common.h"
+
+namespace pl {
+
+struct LightSample {
+  Vec3 wi;                    // unit, from the shading point towards the light
+  float distance = INFINITY;  // to the sampled light point; INFINITY for directional lights
+  // Incident radiance for area lights; I(−wi)/r² (or E) for delta lights, so that the estimate
+  // of the reflected radiance is always f·Li·|cosθ|/pdf.
+  Spectrum Li;
+  float pdf = 0.0f;  // solid angle for area lights, 1 for delta lights
+};
+
+// One photon leaving the light: E[flux] = Φ over the light's sampling.
+struct EmittedRay {
+  Ray ray;
+  Spectrum flux;
+};
+
+class Light {
+ public:
+  virtual ~Light() = default;
+  virtual Spectrum power() const = 0;
+  virtual bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const = 0;
+  virtual EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const = 0;
+  // Point, spot and directional lights cannot be hit by rays.
+  virtual bool isDelta() const { return true; }
+  // Lights that need the scene's extent (directional) are told it once loading is done.
+  virtual void preprocess(const Vec3& sceneCenter, float sceneRadius) {}
+  virtual const char* name() const = 0;
+};
+
+}  // namespace pl

@@ -1,0 +1,90 @@
+#include "render/renderer.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "core/parallel.h"
+
+namespace pl {
+
+void resolveResolution(const Camera& camera, RenderOptions& o) {
+  float aspect = camera.aspectRatio > 0 ? camera.aspectRatio : 1.0f;
+  if (o.width <= 0 && o.height <= 0) o.width = 512;
+  if (o.width <= 0) o.width = std::max(1, int(std::lround(o.height * aspect)));
+  if (o.height <= 0) o.height = std::max(1, int(std::lround(o.width / aspect)));
+}
+
+namespace {
+
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void update(double fraction, double elapsed) {
+    if (!enabled_) return;
+    int width = 40, filled = int(fraction * width);
+    double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %6.1fs  ETA %6.1fs", filled, "########################################",
+                 width - filled, "", 100 * fraction, elapsed, eta);
+    std::fflush(stderr);
+  }
+  ~Progress() {
+    if (enabled_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+};
+
+}  // namespace
+
+ImageRGB render(const Scene& scene, const Integrator& integrator, RenderOptions o, RenderStats* stats) {
+  resolveResolution(scene.camera(), o);
+  const int W = o.width, H = o.height;
+  const int threads = resolveThreads(o.threads);
+  // Double-precision sums: float accumulation drifts over thousands of samples.
+  std::vector<double> sum(size_t(W) * H * 3, 0.0);
+  std::vector<uint64_t> nonFinite(size_t(H), 0);
+  auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  Progress progress(o.progress);
+
+  int taken = 0;
+  int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
+  for (int s = 0; s < target; ++s) {
+    // One row per work item: each pixel is touched by one thread per pass, in sample order,
+    // so the sums are identical whatever the thread count.
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      for (int x = 0; x < W; ++x) {
+        uint64_t pixel = uint64_t(y) * W + x;
+        Rng rng = Rng::keyed(o.seed, pixel, uint64_t(s));
+        float jx = rng.uniform(), jy = rng.uniform();
+        Ray ray = scene.camera().generateRay(x + jx, float(y) + jy, W, H);
+        Spectrum L = integrator.Li(ray, scene, rng);
+        if (!isFinite(L)) {
+          ++nonFinite[y];
+          continue;
+        }
+        double* p = &sum[pixel * 3];
+        p[0] += L.r, p[1] += L.g, p[2] += L.b;
+      }
+    });
+    taken = s + 1;
+    double t = elapsed();
+    progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
+    if (o.timeLimit > 0 && t >= o.timeLimit) break;
+  }
+
+  ImageRGB image(W, H);
+  for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / taken);
+  if (stats) {
+    stats->spp = taken;
+    stats->seconds = elapsed();
+    stats->nonFiniteSamples = 0;
+    for (auto n : nonFinite) stats->nonFiniteSamples += n;
+  }
+  return image;
+}
+
+}  // namespace pl

@@ -1,0 +1,35 @@
+// Renders a scene with an integrator: samples are taken one pass (one sample per pixel) at a
+// time, so --time can stop at a sample boundary and every pixel has the same sample count.
+#pragma once
+#include <functional>
+#include <string>
+
+#include "integrators/integrator.h"
+#include "render/image.h"
+
+namespace pl {
+
+struct RenderOptions {
+  int width = 0, height = 0;  // 0: derived (see resolveResolution)
+  int spp = 16;
+  double timeLimit = 0.0;  // seconds; 0 = none. Stops at the first pass boundary after it.
+  uint64_t seed = 1;
+  int threads = 0;  // 0 = all cores
+  bool progress = false;
+};
+
+struct RenderStats {
+  int spp = 0;  // samples per pixel actually taken
+  double seconds = 0.0;
+  uint64_t nonFiniteSamples = 0;  // discarded (counted as zero)
+};
+
+// Width and height from the options and the camera: --width alone keeps the camera's aspect
+// ratio (square when the file gives none); neither gives 512 wide.
+void resolveResolution(const Camera& camera, RenderOptions& options);
+
+// Pixel value = average radiance over the pixel's area (box filter): sample s of pixel (x, y)
+// uses the random stream keyed by (seed, pixel index, s), never by thread.
+ImageRGB render(const Scene& scene, const Integrator& integrator, RenderOptions options, RenderStats* stats);
+
+}  // namespace pl

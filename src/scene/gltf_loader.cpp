@@ -1,0 +1,511 @@
+#include "scene/gltf_loader.h"
+
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "bsdfs/dielectric.h"
+#include "bsdfs/ggx_conductor.h"
+#include "bsdfs/lambertian.h"
+#include "bsdfs/mirror.h"
+#include "bsdfs/phong.h"
+#include "lights/directional_light.h"
+#include "lights/point_light.h"
+#include "lights/spot_light.h"
+#include "lights/warn_spotlight.h"
+
+namespace pl {
+namespace {
+
+std::string oneLine(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+class Loader {
+ public:
+  Loader(std::string path, std::vector<std::string>* warnings) : path_(std::move(path)), warnings_(warnings) {}
+
+  std::unique_ptr<Scene> load() {
+    parse();
+    scene_ = std::make_unique<Scene>();
+    scene_->source = path_;
+    loadMaterials();
+    int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    if (!model_.scenes.empty()) {
+      if (sceneIndex >= int(model_.scenes.size())) fail("scene", "index " + std::to_string(sceneIndex) + " out of range");
+      for (int root : model_.scenes[sceneIndex].nodes) visit(root, Mat4(1.0f), 0);
+    } else {  // no scenes array: every node that is nobody's child is a root
+      std::vector<bool> isChild(model_.nodes.size(), false);
+      for (auto& n : model_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && c < int(isChild.size())) isChild[c] = true;
+      for (size_t i = 0; i < model_.nodes.size(); ++i)
+        if (!isChild[i]) visit(int(i), Mat4(1.0f), 0);
+    }
+    if (!scene_->hasCamera()) fail("cameras", "no perspective camera in the scene");
+    scene_->commit();
+    if (scene_->lights().empty()) fail("lights", "no light: neither KHR_lights_punctual lights nor emissive materials");
+    if (average(scene_->totalPower()) <= 0) warn("the lights emit no power: the image will be black");
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& element, const std::string& what) const {
+    throw Error(path_ + ": " + element + ": " + what);
+  }
+  void warn(const std::string& what) {
+    if (warnings_) warnings_->push_back(path_ + ": " + what);
+  }
+
+  void parse() {
+    std::ifstream f(path_, std::ios::binary);
+    if (!f) fail("file", std::string("cannot open (") + std::strerror(errno) + ")");
+    char magic[4] = {};
+    f.read(magic, 4);
+    bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    f.close();
+    tinygltf::TinyGLTF gltf;
+    std::string err, warn;
+    bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
+                     : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    if (!ok || !err.empty()) fail(binary ? "glb" : "json", oneLine(err.empty() ? "cannot parse" : err));
+    if (!warn.empty()) this->warn(oneLine(warn));
+  }
+
+  // ---------- accessors ----------
+  // Reads accessor `index` as `components` floats per element. Allowed component types are
+  // float and, when `normalizedIntsOk`, normalised unsigned bytes/shorts (texture coordinates).
+  std::vector<float> readFloats(int index, int components, bool normalizedIntsOk, const std::string& what) {
+    const tinygltf::Accessor& acc = accessor(index, what);
+    std::string el = "accessors[" + std::to_string(index) + "] (" + what + ")";
+    if (tinygltf::GetNumComponentsInType(acc.type) != components)
+      fail(el, "expected " + std::to_string(components) + " components per element");
+    int ct = acc.componentType;
+    bool isFloat = ct == TINYGLTF_COMPONENT_TYPE_FLOAT;
+    bool isNorm = normalizedIntsOk && acc.normalized &&
+                  (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (!isFloat && !isNorm) fail(el, "unsupported componentType " + std::to_string(ct));
+    std::vector<float> out(acc.count * size_t(components), 0.0f);
+    const unsigned char* base;
+    size_t stride;
+    if (!elementData(acc, el, &base, &stride)) return out;  // no bufferView: all zeros (spec)
+    int compSize = tinygltf::GetComponentSizeInBytes(ct);
+    for (size_t i = 0; i < acc.count; ++i) {
+      const unsigned char* e = base + i * stride;
+      for (int c = 0; c < components; ++c) {
+        float v;
+        if (isFloat) {
+          std::memcpy(&v, e + c * compSize, 4);
+        } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+          v = e[c] / 255.0f;
+        } else {
+          uint16_t s;
+          std::memcpy(&s, e + c * compSize, 2);
+          v = s / 65535.0f;
+        }
+        if (!std::isfinite(v)) fail(el, "element " + std::to_string(i) + " is not finite");
+        out[i * components + c] = v;
+      }
+    }
+    return out;
+  }
+
+  std::vector<uint32_t> readIndices(int index) {
+    const tinygltf::Accessor& acc = accessor(index, "indices");
+    std::string el = "accessors[" + std::to_string(index) + "] (indices)";
+    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(el, "indices must be SCALAR");
+    int ct = acc.componentType;
+    if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(el, "indices must be unsigned byte, short or int");
+    std::vector<uint32_t> out(acc.count, 0);
+    const unsigned char* base;
+    size_t stride;
+    if (!elementData(acc, el, &base, &stride)) return out;
+    for (size_t i = 0; i < acc.count; ++i) {
+      const unsigned char* e = base + i * stride;
+      if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+        out[i] = e[0];
+      } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+        uint16_t s;
+        std::memcpy(&s, e, 2);
+        out[i] = s;
+      } else {
+        std::memcpy(&out[i], e, 4);
+      }
+    }
+    return out;
+  }
+
+  const tinygltf::Accessor& accessor(int index, const std::string& what) {
+    if (index < 0 || index >= int(model_.accessors.size()))
+      fail(what, "accessor index " + std::to_string(index) + " out of range");
+    const tinygltf::Accessor& acc = model_.accessors[index];
+    if (acc.sparse.isSparse) fail("accessors[" + std::to_string(index) + "]", "sparse accessors are not supported");
+    return acc;
+  }
+
+  // Checks that every element of the accessor lies inside its buffer view and buffer, before
+  // anything is allocated from its count. Returns false when the accessor has no bufferView.
+  bool elementData(const tinygltf::Accessor& acc, const std::string& el, const unsigned char** base, size_t* stride) {
+    if (acc.bufferView < 0) return false;
+    if (acc.bufferView >= int(model_.bufferViews.size())) fail(el, "bufferView out of range");
+    const tinygltf::BufferView& view = model_.bufferViews[acc.bufferView];
+    if (view.buffer < 0 || view.buffer >= int(model_.buffers.size()))
+      fail("bufferViews[" + std::to_string(acc.bufferView) + "]", "buffer out of range");
+    const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
+    size_t elementSize = size_t(tinygltf::GetComponentSizeInBytes(acc.componentType)) *
+                         size_t(tinygltf::GetNumComponentsInType(acc.type));
+    *stride = view.byteStride ? view.byteStride : elementSize;
+    if (*stride < elementSize) fail(el, "byteStride smaller than an element");
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
+      fail("bufferViews[" + std::to_string(acc.bufferView) + "]",
+           "range [" + std::to_string(view.byteOffset) + ", +" + std::to_string(view.byteLength) +
+               ") exceeds buffer " + std::to_string(view.buffer) + " of " + std::to_string(buffer.data.size()) +
+               " bytes");
+    if (acc.count == 0) {
+      *base = buffer.data.data();
+      return true;
+    }
+    // Last byte needed: byteOffset + (count−1)·stride + elementSize, computed without overflow.
+    size_t avail = view.byteLength;
+    if (acc.byteOffset > avail || (acc.count - 1) > (avail - acc.byteOffset) / *stride ||
+        acc.byteOffset + (acc.count - 1) * *stride + elementSize > avail)
+      fail(el, "count " + std::to_string(acc.count) + " exceeds its bufferView (" + std::to_string(avail) + " bytes)");
+    *base = buffer.data.data() + view.byteOffset + acc.byteOffset;
+    return true;
+  }
+
+  // ---------- materials ----------
+  static bool getNumber(const tinygltf::Value& obj, const char* key, double* out) {
+    if (!obj.IsObject() || !obj.Has(key) || !obj.Get(key).IsNumber()) return false;
+    *out = obj.Get(key).GetNumberAsDouble();
+    return true;
+  }
+  static const tinygltf::Value* extension(const tinygltf::ExtensionMap& ext, const char* name) {
+    auto it = ext.find(name);
+    return it == ext.end() ? nullptr : &it->second;
+  }
+  const tinygltf::Value* photonlabExtras(const tinygltf::Value& extras) {
+    if (extras.IsObject() && extras.Has("photonlab")) return &extras.Get("photonlab");
+    return nullptr;
+  }
+  Spectrum spectrumValue(const tinygltf::Value& v, const std::string& el) {
+    if (v.IsNumber()) return Spectrum(float(v.GetNumberAsDouble()));
+    if (v.IsArray() && v.ArrayLen() == 3) {
+      Spectrum s;
+      for (int i = 0; i < 3; ++i) {
+        if (!v.Get(i).IsNumber()) fail(el, "must be a number or an array of 3 numbers");
+        s[i] = float(v.Get(i).GetNumberAsDouble());
+      }
+      return s;
+    }
+    fail(el, "must be a number or an array of 3 numbers");
+  }
+  void checkRange(const std::string& el, const Spectrum& s, float lo, float hi) {
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(s[i]) || s[i] < lo || s[i] > hi)
+        fail(el, "value " + std::to_string(s[i]) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+
+  std::shared_ptr<const Image> textureImage(int textureIndex, const std::string& el) {
+    if (textureIndex < 0) return nullptr;
+    if (textureIndex >= int(model_.textures.size())) fail(el, "texture index out of range");
+    int src = model_.textures[textureIndex].source;
+    if (src < 0 || src >= int(model_.images.size())) fail(el, "texture has no valid image source");
+    auto cached = images_.find(src);
+    if (cached != images_.end()) return cached->second;
+    const tinygltf::Image& im = model_.images[src];
+    if (im.width <= 0 || im.height <= 0 || im.component < 3 || im.bits != 8 ||
+        im.image.size() < size_t(im.width) * im.height * im.component)
+      fail("images[" + std::to_string(src) + "]", "unsupported or undecoded image (need 8-bit RGB or RGBA)");
+    auto image = std::make_shared<Image>();
+    image->width = im.width;
+    image->height = im.height;
+    image->texels.resize(size_t(im.width) * im.height);
+    auto toLinear = [](unsigned char c) {  // sRGB transfer function
+      float v = c / 255.0f;
+      return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+    };
+    for (size_t i = 0; i < image->texels.size(); ++i)
+      for (int c = 0; c < 3; ++c) image->texels[i][c] = toLinear(im.image[i * im.component + c]);
+    images_[src] = image;
+    return image;
+  }
+
+  void loadMaterials() {
+    for (size_t i = 0; i < model_.materials.size(); ++i) scene_->addMaterial(material(model_.materials[i], i));
+    // glTF's default material, for primitives without one.
+    tinygltf::Material fallback;
+    fallback.name = "default";
+    defaultMaterial_ = scene_->addMaterial(material(fallback, size_t(-1)));
+  }
+
+  Material material(const tinygltf::Material& m, size_t index) {
+    std::string el = index == size_t(-1) ? std::string("default material") : "materials[" + std::to_string(index) + "]";
+    Material out;
+    out.name = m.name.empty() ? el : m.name;
+    out.twoSided = m.doubleSided;
+
+    const auto& pbr = m.pbrMetallicRoughness;
+    Spectrum baseColor(1.0f);
+    if (pbr.baseColorFactor.size() >= 3)
+      baseColor = Spectrum(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
+    checkRange(el + ".baseColorFactor", baseColor, 0.0f, 1.0f);
+    if (pbr.baseColorTexture.index >= 0 && pbr.baseColorTexture.texCoord != 0)
+      warn(el + ": baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
+    ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"));
+    float metallic = float(pbr.metallicFactor), roughness = float(pbr.roughnessFactor);
+    if (!(metallic >= 0 && metallic <= 1)) fail(el + ".metallicFactor", "must be in [0, 1]");
+    if (!(roughness >= 0 && roughness <= 1)) fail(el + ".roughnessFactor", "must be in [0, 1]");
+    if (pbr.metallicRoughnessTexture.index >= 0) warn(el + ": metallicRoughnessTexture is ignored (factors are used)");
+
+    // Emission: emissiveFactor × KHR_materials_emissive_strength, radiance in W/(m²·sr).
+    Spectrum emissive(0.0f);
+    if (m.emissiveFactor.size() >= 3)
+      emissive = Spectrum(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2]));
+    double strength = 1.0;
+    if (auto* ext = extension(m.extensions, "KHR_materials_emissive_strength")) getNumber(*ext, "emissiveStrength", &strength);
+    out.emission = emissive * float(strength);
+    checkRange(el + ".emission", out.emission, 0.0f, 1e30f);
+    if (m.emissiveTexture.index >= 0) warn(el + ": emissiveTexture is ignored (emissiveFactor is used)");
+
+    double transmission = 0.0, thickness = 0.0, ior = 1.5;
+    if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) getNumber(*ext, "transmissionFactor", &transmission);
+    if (auto* ext = extension(m.extensions, "KHR_materials_volume")) getNumber(*ext, "thicknessFactor", &thickness);
+    if (auto* ext = extension(m.extensions, "KHR_materials_ior")) getNumber(*ext, "ior", &ior);
+    if (!(ior >= 1.0 && ior < 10.0) && ior != 0.0) fail(el + ".KHR_materials_ior.ior", "must be in [1, 10)");
+    if (ior == 0.0) ior = 1.5;  // the extension allows 0 as "unset"
+
+    const tinygltf::Value* extras = photonlabExtras(m.extras);
+    if (extras && extras->IsObject() && extras->Has("phong")) {
+      const tinygltf::Value& ph = extras->Get("phong");
+      std::string pel = el + ".extras.photonlab.phong";
+      if (!ph.IsObject() || !ph.Has("kd") || !ph.Has("ks") || !ph.Has("exponent") || !ph.Get("exponent").IsNumber())
+        fail(pel, "needs {kd, ks, exponent}");
+      Spectrum kd = spectrumValue(ph.Get("kd"), pel + ".kd"), ks = spectrumValue(ph.Get("ks"), pel + ".ks");
+      float n = float(ph.Get("exponent").GetNumberAsDouble());
+      checkRange(pel + ".kd", kd, 0.0f, 1.0f);
+      checkRange(pel + ".ks", ks, 0.0f, 1.0f);
+      checkRange(pel + ".kd+ks (energy conservation)", kd + ks, 0.0f, 1.0f);
+      if (!(n >= 0 && n < 1e6f)) fail(pel + ".exponent", "must be in [0, 1e6)");
+      out.bsdf = std::make_unique<Phong>(kd, ks, n);
+    } else if (transmission > 0 && thickness > 0) {
+      out.bsdf = std::make_unique<Dielectric>(float(ior));
+    } else if (metallic == 1.0f && roughness == 0.0f) {
+      out.bsdf = std::make_unique<Mirror>(base);
+    } else if (metallic == 1.0f) {
+      out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);
+    } else {
+      if (transmission > 0) warn(el + ": KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered as Lambertian");
+      if (metallic > 0) warn(el + ": metallicFactor " + std::to_string(metallic) + " between 0 and 1 is rendered as Lambertian");
+      out.bsdf = std::make_unique<Lambertian>(base);
+    }
+    return out;
+  }
+
+  // ---------- nodes ----------
+  Mat4 localTransform(const tinygltf::Node& n, const std::string& el) {
+    for (double v : n.matrix)
+      if (!std::isfinite(v)) fail(el + ".matrix", "not finite");
+    if (n.matrix.size() == 16) {
+      Mat4 m;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[c][r] = float(n.matrix[c * 4 + r]);  // column-major
+      return m;
+    }
+    Mat4 m(1.0f);
+    auto finite = [&](const std::vector<double>& v, const char* what) {
+      for (double x : v)
+        if (!std::isfinite(x)) fail(el + "." + what, "not finite");
+    };
+    finite(n.translation, "translation");
+    finite(n.rotation, "rotation");
+    finite(n.scale, "scale");
+    if (n.translation.size() == 3) m = glm::translate(m, Vec3(n.translation[0], n.translation[1], n.translation[2]));
+    if (n.rotation.size() == 4) {
+      glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));  // w, x, y, z
+      if (glm::length(q) == 0) fail(el + ".rotation", "zero quaternion");
+      m = m * glm::mat4_cast(glm::normalize(q));
+    }
+    if (n.scale.size() == 3) m = glm::scale(m, Vec3(n.scale[0], n.scale[1], n.scale[2]));
+    return m;
+  }
+
+  void visit(int index, const Mat4& parent, int depth) {
+    if (index < 0 || index >= int(model_.nodes.size())) fail("nodes", "node index " + std::to_string(index) + " out of range");
+    if (depth > 256) fail("nodes[" + std::to_string(index) + "]", "hierarchy deeper than 256 (a cycle?)");
+    const tinygltf::Node& node = model_.nodes[index];
+    std::string el = "nodes[" + std::to_string(index) + "]";
+    Mat4 world = parent * localTransform(node, el);
+    if (node.mesh >= 0) addMesh(node.mesh, world);
+    if (node.camera >= 0) addCamera(node.camera, world, el);
+    if (auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
+      double light;
+      if (!getNumber(*ext, "light", &light)) fail(el + ".KHR_lights_punctual", "missing light index");
+      addLight(int(light), world);
+    }
+    for (int child : node.children) visit(child, world, depth + 1);
+  }
+
+  void addCamera(int index, const Mat4& world, const std::string& el) {
+    if (index >= int(model_.cameras.size())) fail(el + ".camera", "index out of range");
+    const tinygltf::Camera& cam = model_.cameras[index];
+    if (cam.type != "perspective" || scene_->hasCamera()) return;  // the first perspective camera wins
+    std::string cel = "cameras[" + std::to_string(index) + "]";
+    Camera c;
+    c.yfov = float(cam.perspective.yfov);
+    c.aspectRatio = float(cam.perspective.aspectRatio);
+    if (!(c.yfov > 0 && c.yfov < kPi)) fail(cel + ".yfov", "must be in (0, π)");
+    if (!(c.aspectRatio >= 0 && std::isfinite(c.aspectRatio))) fail(cel + ".aspectRatio", "must be positive");
+    c.position = Vec3(world * glm::vec4(0, 0, 0, 1));
+    c.forward = glm::normalize(Vec3(world * glm::vec4(0, 0, -1, 0)));
+    Vec3 up = Vec3(world * glm::vec4(0, 1, 0, 0));
+    c.right = glm::normalize(glm::cross(c.forward, up));
+    c.up = glm::cross(c.right, c.forward);
+    if (!isFinite(c.position) || !isFinite(c.forward) || !isFinite(c.right)) fail(el, "degenerate camera transform");
+    scene_->setCamera(c);
+  }
+
+  void addLight(int index, const Mat4& world) {
+    std::string el = "KHR_lights_punctual.lights[" + std::to_string(index) + "]";
+    if (index < 0 || index >= int(model_.lights.size())) fail(el, "index out of range");
+    const tinygltf::Light& l = model_.lights[index];
+    Spectrum color(1.0f);
+    if (l.color.size() >= 3) color = Spectrum(float(l.color[0]), float(l.color[1]), float(l.color[2]));
+    checkRange(el + ".color", color, 0.0f, 1e30f);
+    float intensity = float(l.intensity);
+    if (!(intensity >= 0 && std::isfinite(intensity))) fail(el + ".intensity", "must be finite and ≥ 0");
+    Spectrum I = color * intensity;  // W/sr (directional: W/m²)
+
+    double power = -1, warn = -1;
+    if (const tinygltf::Value* ex = photonlabExtras(l.extras)) {
+      if (ex->Has("power") && !getNumber(*ex, "power", &power)) fail(el + ".extras.photonlab.power", "must be a number");
+      if (ex->Has("warn_exponent") && !getNumber(*ex, "warn_exponent", &warn))
+        fail(el + ".extras.photonlab.warn_exponent", "must be a number");
+      if (ex->Has("power") && !(power >= 0 && std::isfinite(power))) fail(el + ".extras.photonlab.power", "must be ≥ 0");
+      if (ex->Has("warn_exponent") && !(warn >= 0 && warn < 1e6)) fail(el + ".extras.photonlab.warn_exponent", "must be in [0, 1e6)");
+    }
+    Spectrum flux = color * float(power);  // `power` is the flux of a white light; colour scales it
+    Vec3 position(world * glm::vec4(0, 0, 0, 1));
+    Vec3 direction = glm::normalize(Vec3(world * glm::vec4(0, 0, -1, 0)));
+    if (!isFinite(position) || !isFinite(direction)) fail(el, "degenerate light transform");
+
+    if (l.type == "point") {
+      scene_->addLight(std::make_unique<PointLight>(position, power >= 0 ? PointLight::intensityForPower(flux) : I));
+    } else if (l.type == "spot") {
+      if (warn >= 0) {
+        float s = float(warn);
+        scene_->addLight(std::make_unique<WarnSpotlight>(position, direction,
+                                                         power >= 0 ? WarnSpotlight::cForPower(flux, s) : I, s));
+        return;
+      }
+      float inner = float(l.spot.innerConeAngle), outer = float(l.spot.outerConeAngle);
+      if (!(inner >= 0 && inner < outer && outer <= kPi / 2 + 1e-6f))
+        fail(el + ".spot", "need 0 ≤ innerConeAngle < outerConeAngle ≤ π/2");
+      scene_->addLight(std::make_unique<SpotLight>(
+          position, direction, power >= 0 ? SpotLight::intensityForPower(flux, inner, outer) : I, inner, outer));
+    } else if (l.type == "directional") {
+      scene_->addLight(std::make_unique<DirectionalLight>(direction, power >= 0 ? color : I, float(power)));
+    } else {
+      fail(el + ".type", "unknown light type '" + l.type + "'");
+    }
+  }
+
+  void addMesh(int meshIndex, const Mat4& world) {
+    if (meshIndex >= int(model_.meshes.size())) fail("mesh", "index " + std::to_string(meshIndex) + " out of range");
+    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
+    bool flipWinding = glm::determinant(glm::mat3(world)) < 0;  // mirroring turns CCW into CW
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = mesh.primitives[p];
+      std::string el = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
+        warn(el + ": points and lines are not rendered");
+        continue;
+      }
+      auto pos = prim.attributes.find("POSITION");
+      if (pos == prim.attributes.end()) fail(el, "no POSITION attribute");
+      std::vector<float> P = readFloats(pos->second, 3, false, el + ".POSITION");
+      size_t n = P.size() / 3;
+      std::vector<float> N, T;
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+        N = readFloats(it->second, 3, false, el + ".NORMAL");
+        if (N.size() != P.size()) fail(el + ".NORMAL", "count differs from POSITION");
+      }
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
+        T = readFloats(it->second, 2, true, el + ".TEXCOORD_0");
+        if (T.size() != 2 * n) fail(el + ".TEXCOORD_0", "count differs from POSITION");
+      }
+      std::vector<uint32_t> idx;
+      if (prim.indices >= 0) {
+        idx = readIndices(prim.indices);
+        for (uint32_t i : idx)
+          if (i >= n) fail(el + ".indices", "index " + std::to_string(i) + " ≥ vertex count " + std::to_string(n));
+      } else {
+        idx.resize(n);
+        for (size_t i = 0; i < n; ++i) idx[i] = uint32_t(i);
+      }
+      std::vector<uint32_t> tris = triangulate(idx, prim.mode, el);
+      if (flipWinding)
+        for (size_t i = 0; i < tris.size(); i += 3) std::swap(tris[i + 1], tris[i + 2]);
+
+      std::vector<Vec3> positions(n), normals(N.empty() ? 0 : n);
+      std::vector<Vec2> uvs(T.empty() ? 0 : n);
+      for (size_t i = 0; i < n; ++i) {
+        positions[i] = Vec3(world * glm::vec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0f));
+        if (!N.empty()) {
+          Vec3 nn = normalMatrix * Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2]);
+          float len = glm::length(nn);
+          normals[i] = len > 0 ? nn / len : Vec3(0, 1, 0);
+        }
+        if (!T.empty()) uvs[i] = Vec2(T[2 * i], T[2 * i + 1]);
+        if (!isFinite(positions[i])) fail(el + ".POSITION", "not finite after the node transform");
+      }
+      int material = prim.material;
+      if (material >= int(model_.materials.size())) fail(el + ".material", "index out of range");
+      scene_->addMesh(positions, normals, uvs, tris, material < 0 ? defaultMaterial_ : uint32_t(material));
+    }
+  }
+
+  std::vector<uint32_t> triangulate(const std::vector<uint32_t>& idx, int mode, const std::string& el) {
+    if (mode == TINYGLTF_MODE_TRIANGLES || mode == -1) {
+      if (idx.size() % 3) fail(el, "triangle list of " + std::to_string(idx.size()) + " indices (not a multiple of 3)");
+      return idx;
+    }
+    std::vector<uint32_t> out;
+    for (size_t i = 2; i < idx.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {  // every other triangle reversed to keep CCW
+        if (i % 2 == 0) out.insert(out.end(), {idx[i - 2], idx[i - 1], idx[i]});
+        else out.insert(out.end(), {idx[i - 1], idx[i - 2], idx[i]});
+      } else {  // fan
+        out.insert(out.end(), {idx[0], idx[i - 1], idx[i]});
+      }
+    }
+    return out;
+  }
+
+  std::string path_;
+  std::vector<std::string>* warnings_;
+  tinygltf::Model model_;
+  std::unique_ptr<Scene> scene_;
+  uint32_t defaultMaterial_ = 0;
+  std::map<int, std::shared_ptr<const Image>> images_;
+};
+
+}  // namespace
+
+std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings) {
+  return Loader(path, warnings).load();
+}
+
+}  // namespace pl

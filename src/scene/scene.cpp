@@ -1,0 +1,194 @@
+#include "scene/scene.h"
+
+#include <atomic>
+#include <limits>
+
+namespace pl {
+
+namespace {
+std::atomic<uint64_t> finishedThreadRays{0};
+struct RayCounter {
+  uint64_t count = 0;
+  ~RayCounter() { finishedThreadRays += count; }
+};
+thread_local RayCounter rayCounter;
+}  // namespace
+
+uint64_t Scene::raysTraced() { return finishedThreadRays.load() + rayCounter.count; }
+
+Scene::Scene() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw Error("Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+}
+
+Scene::~Scene() {
+  if (rtcScene_) rtcReleaseScene(rtcScene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+uint32_t Scene::addMaterial(Material material) {
+  materials_.push_back(std::move(material));
+  return uint32_t(materials_.size() - 1);
+}
+
+void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                    const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material) {
+  if (indices.size() % 3) throw Error("mesh index count is not a multiple of 3");
+  if (material >= materials_.size()) throw Error("mesh refers to an unknown material");
+  uint32_t base = uint32_t(positions_.size());
+  bool smooth = !normals.empty();
+  for (size_t i = 0; i < positions.size(); ++i) {
+    positions_.push_back(positions[i]);
+    normals_.push_back(smooth ? glm::normalize(normals[i]) : Vec3(0.0f));
+    uvs_.push_back(uvs.empty() ? Vec2(0.0f) : uvs[i]);
+    bounds_.extend(positions[i]);
+  }
+  for (size_t i = 0; i < indices.size(); i += 3) {
+    Triangle tri;
+    for (int k = 0; k < 3; ++k) {
+      if (indices[i + k] >= positions.size()) throw Error("mesh index out of range");
+      tri.v[k] = base + indices[i + k];
+    }
+    tri.material = material;
+    tri.smooth = smooth;
+    triangles_.push_back(tri);
+  }
+}
+
+void Scene::addLight(std::unique_ptr<Light> light) { lights_.push_back(std::move(light)); }
+
+void Scene::commit() {
+  if (committed_) throw Error("scene committed twice");
+  committed_ = true;
+  if (bounds_.empty()) bounds_.extend(Vec3(0.0f));
+  // Offsets scale with the scene so metre- and millimetre-sized scenes both avoid self-hits.
+  epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
+
+  faceNormals_.resize(triangles_.size());
+  for (size_t i = 0; i < triangles_.size(); ++i) {
+    Triangle& tri = triangles_[i];
+    const Vec3 &a = positions_[tri.v[0]], &b = positions_[tri.v[1]], &c = positions_[tri.v[2]];
+    Vec3 n = glm::cross(b - a, c - a);
+    float len = glm::length(n);
+    faceNormals_[i] = len > 0 ? n / len : Vec3(0, 0, 1);
+    const Material& m = materials_[tri.material];
+    if (!isBlack(m.emission) && len > 0) {
+      tri.light = int32_t(lights_.size());
+      lights_.push_back(std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided));
+    }
+  }
+
+  std::vector<float> weights;
+  for (auto& light : lights_) {
+    light->preprocess(bounds_.center(), std::max(bounds_.radius(), 1e-3f));
+    weights.push_back(std::max(0.0f, average(light->power())));
+  }
+  lightDistribution_ = Distribution1D(weights);
+
+  rtcScene_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
+  if (!triangles_.empty()) {
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), positions_.size()));
+    auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(uint32_t), triangles_.size()));
+    if (!vb || !ib) throw Error("Embree: out of memory for " + std::to_string(triangles_.size()) + " triangles");
+    for (size_t i = 0; i < positions_.size(); ++i) {
+      vb[3 * i] = positions_[i].x;
+      vb[3 * i + 1] = positions_[i].y;
+      vb[3 * i + 2] = positions_[i].z;
+    }
+    for (size_t i = 0; i < triangles_.size(); ++i)
+      for (int k = 0; k < 3; ++k) ib[3 * i + k] = triangles_[i].v[k];
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(rtcScene_, geom);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(rtcScene_);
+  RTCError err = rtcGetDeviceError(device_);
+  if (err != RTC_ERROR_NONE) throw Error("Embree: BVH build failed (error " + std::to_string(int(err)) + ")");
+}
+
+Spectrum Scene::totalPower() const {
+  Spectrum sum(0.0f);
+  for (auto& light : lights_) sum += light->power();
+  return sum;
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x;
+  rh.ray.org_y = ray.o.y;
+  rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x;
+  rh.ray.dir_y = ray.d.y;
+  rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = ray.tmin;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xFFFFFFFFu;  // a zero mask hits nothing
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtcScene_, &context, &rh);
+  ++rayCounter.count;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+  const Triangle& tri = triangles_[rh.hit.primID];
+  float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;  // Embree: p = b0 v0 + u v1 + v v2
+  hit->t = rh.ray.tfar;
+  hit->p = b0 * positions_[tri.v[0]] + b1 * positions_[tri.v[1]] + b2 * positions_[tri.v[2]];
+  hit->ng = faceNormals_[rh.hit.primID];
+  Vec3 ns = hit->ng;
+  if (tri.smooth) {
+    Vec3 n = b0 * normals_[tri.v[0]] + b1 * normals_[tri.v[1]] + b2 * normals_[tri.v[2]];
+    float len = glm::length(n);
+    if (len > 0) ns = n / len;
+  }
+  hit->shading = Frame(ns);
+  hit->uv = b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]];
+  hit->primitive = rh.hit.primID;
+  hit->bsdf = materials_[tri.material].bsdf.get();
+  hit->lightIndex = tri.light;
+  hit->light = tri.light >= 0 ? static_cast<const AreaLight*>(lights_[tri.light].get()) : nullptr;
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.o.x;
+  r.org_y = ray.o.y;
+  r.org_z = ray.o.z;
+  r.dir_x = ray.d.x;
+  r.dir_y = ray.d.y;
+  r.dir_z = ray.d.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  r.time = 0.0f;
+  r.mask = 0xFFFFFFFFu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(rtcScene_, &context, &r);
+  ++rayCounter.count;
+  return r.tfar < 0.0f;  // Embree sets tfar = −inf when something was hit
+}
+
+Ray Scene::spawnRay(const SurfaceHit& hit, const Vec3& d) const {
+  Vec3 offset = hit.ng * (glm::dot(d, hit.ng) > 0 ? epsilon_ : -epsilon_);
+  return Ray{hit.p + offset, d, 0.0f, INFINITY};
+}
+
+bool Scene::visible(const SurfaceHit& hit, const Vec3& wi, float distance) const {
+  Ray r = spawnRay(hit, wi);
+  r.tmax = std::isinf(distance) ? INFINITY : distance * (1.0f - 1e-4f) - epsilon_;
+  if (r.tmax <= 0) return true;
+  return !occluded(r);
+}
+
+}  // namespace pl

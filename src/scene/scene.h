@@ -1,0 +1,109 @@
+// A scene: triangles in world space on one Embree BVH, their materials, the lights and the
+// camera. Built through the add*() calls (by the glTF loader or by tests), then commit().
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bsdfs/bsdf.h"
+#include "core/frame.h"
+#include "core/sampling.h"
+#include "lights/area_light.h"
+#include "lights/light.h"
+#include "scene/camera.h"
+
+namespace pl {
+
+struct Material {
+  std::string name;
+  std::unique_ptr<BSDF> bsdf;
+  Spectrum emission{0.0f};  // emitted radiance Le, W/(m²·sr)
+  bool twoSided = false;    // glTF doubleSided: emits from both faces
+};
+
+struct SurfaceHit {
+  float t = INFINITY;
+  Vec3 p;
+  Vec3 ng;       // geometric normal, unit, on the front (counter-clockwise) side
+  Frame shading; // shading normal frame (interpolated NORMAL, or ng when the mesh has none)
+  Vec2 uv;
+  uint32_t primitive = 0;
+  const BSDF* bsdf = nullptr;
+  const AreaLight* light = nullptr;  // non-null on emissive triangles
+  int lightIndex = -1;
+};
+
+struct Bounds {
+  Vec3 lo{INFINITY}, hi{-INFINITY};
+  void extend(const Vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  bool empty() const { return lo.x > hi.x; }
+  Vec3 center() const { return 0.5f * (lo + hi); }
+  float radius() const { return 0.5f * glm::length(hi - lo); }
+};
+
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  // --- building ---
+  uint32_t addMaterial(Material material);
+  // World-space triangles; normals and uvs may be empty (flat shading, uv = 0).
+  void addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+               const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material);
+  void addLight(std::unique_ptr<Light> light);
+  void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
+  // Builds the BVH, one AreaLight per emissive triangle and the light-selection distribution.
+  void commit();
+
+  // --- queries ---
+  bool intersect(const Ray& ray, SurfaceHit* hit) const;
+  bool occluded(const Ray& ray) const;
+  // Ray leaving the surface at `hit` in direction d, offset off the surface to avoid self-hits.
+  Ray spawnRay(const SurfaceHit& hit, const Vec3& d) const;
+  // Shadow ray from hit towards a light sample at `distance` along wi: is it unblocked?
+  bool visible(const SurfaceHit& hit, const Vec3& wi, float distance) const;
+
+  const Camera& camera() const { return camera_; }
+  bool hasCamera() const { return hasCamera_; }
+  const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
+  // Lights are chosen in proportion to their power (average over RGB).
+  const Distribution1D& lightDistribution() const { return lightDistribution_; }
+  Spectrum totalPower() const;
+  const std::vector<Material>& materials() const { return materials_; }
+  size_t triangleCount() const { return triangles_.size(); }
+  const Bounds& bounds() const { return bounds_; }
+  float epsilon() const { return epsilon_; }
+  RTCScene embreeScene() const { return rtcScene_; }
+  // Rays (closest-hit and shadow) traced so far by this process, for benchmarks. Counted per
+  // thread without atomics; a thread adds its count to the total when it exits.
+  static uint64_t raysTraced();
+  std::string source;  // file it was loaded from, for messages and metadata
+
+ private:
+  struct Triangle {
+    uint32_t v[3];
+    uint32_t material;
+    int32_t light = -1;
+    bool smooth = false;
+  };
+  RTCDevice device_ = nullptr;
+  RTCScene rtcScene_ = nullptr;
+  std::vector<Vec3> positions_, normals_;
+  std::vector<Vec2> uvs_;
+  std::vector<Vec3> faceNormals_;
+  std::vector<Triangle> triangles_;
+  std::vector<Material> materials_;
+  std::vector<std::unique_ptr<Light>> lights_;
+  Distribution1D lightDistribution_;
+  Camera camera_;
+  bool hasCamera_ = false, committed_ = false;
+  Bounds bounds_;
+  float epsilon_ = 1e-4f;
+};
+
+}  // namespace pl

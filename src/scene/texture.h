@@ -1,0 +1,43 @@
+// A colour that may vary over the surface: factor × texel (glTF's baseColorFactor × texture).
+#pragma once
+#include <memory>
+#include <vector>
+#include "core/common.h"
+
+namespace pl {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Spectrum> texels;  // linear RGB, row 0 at the top (glTF uv (0,0) is top-left)
+};
+
+class ColorTexture {
+ public:
+  ColorTexture(const Spectrum& factor = Spectrum(1.0f), std::shared_ptr<const Image> image = nullptr)
+      : factor_(factor), image_(std::move(image)) {}
+
+  Spectrum eval(const Vec2& uv) const {
+    if (!image_) return factor_;
+    // Bilinear lookup with repeat wrapping (the glTF default sampler).
+    float x = (uv.x - std::floor(uv.x)) * image_->width - 0.5f;
+    float y = (uv.y - std::floor(uv.y)) * image_->height - 0.5f;
+    int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    float fx = x - x0, fy = y - y0;
+    auto at = [&](int i, int j) {
+      i = ((i % image_->width) + image_->width) % image_->width;
+      j = ((j % image_->height) + image_->height) % image_->height;
+      return image_->texels[size_t(j) * image_->width + i];
+    };
+    Spectrum c = (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+                 fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+    return factor_ * c;
+  }
+  bool isConstant() const { return !image_; }
+  const Spectrum& factor() const { return factor_; }
+
+ private:
+  Spectrum factor_;
+  std::shared_ptr<const Image> image_;
+};
+
+}  // namespace pl

@@ -1,0 +1,211 @@
+// Every BSDF: sample() agrees with pdf() (chi-square), its weight is f·cos/pdf, it is
+// reciprocal, and it does not create energy (white furnace: albedo ≤ 1).
+#include <catch2/catch.hpp>
+#include <memory>
+
+#include "bsdfs/dielectric.h"
+#include "bsdfs/ggx_conductor.h"
+#include "bsdfs/lambertian.h"
+#include "bsdfs/mirror.h"
+#include "bsdfs/phong.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "optics/optics.h"
+#include "stats.h"
+
+using namespace pl;
+
+namespace {
+
+struct Case {
+  std::string name;
+  std::shared_ptr<BSDF> bsdf;
+};
+
+std::vector<Case> smoothBsdfs(float white = 1.0f) {
+  return {
+      {"lambertian", std::make_shared<Lambertian>(ColorTexture(Spectrum(white)))},
+      {"phong n=20", std::make_shared<Phong>(Spectrum(0.5f * white), Spectrum(0.5f * white), 20.0f)},
+      {"phong n=200 specular only", std::make_shared<Phong>(Spectrum(0.0f), Spectrum(white), 200.0f)},
+      {"ggx alpha=0.5", std::make_shared<GGXConductor>(ColorTexture(Spectrum(white)), 0.5f)},
+      {"ggx alpha=0.1", std::make_shared<GGXConductor>(ColorTexture(Spectrum(white)), 0.1f)},
+  };
+}
+
+Vec3 direction(float cosTheta, float phi) {
+  float s = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
+  return Vec3(s * std::cos(phi), s * std::sin(phi), cosTheta);
+}
+
+// Histogram of sampled directions over (cosθ, φ) against ∫ pdf dω per cell.
+double chiSquareBsdf(const BSDF& bsdf, const Vec3& wo, uint64_t seed) {
+  const int nCos = 20, nPhi = 40, N = 400000, sub = 6;
+  std::vector<double> observed(nCos * nPhi, 0), expected(nCos * nPhi, 0);
+  Rng rng(seed, 1);
+  for (int i = 0; i < N; ++i) {
+    BSDFSample s;
+    if (!bsdf.sample(wo, Vec2(0), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
+      continue;
+    int ci = std::min(nCos - 1, int((s.wi.z + 1) / 2 * nCos));
+    int pi = std::min(nPhi - 1, int(sphericalPhi(s.wi) / (2 * kPi) * nPhi));
+    observed[ci * nPhi + pi] += 1;
+  }
+  // dω = d(cosθ) dφ: integrate the pdf over each cell with a sub×sub midpoint rule.
+  for (int ci = 0; ci < nCos; ++ci)
+    for (int pi = 0; pi < nPhi; ++pi) {
+      double sum = 0;
+      for (int a = 0; a < sub; ++a)
+        for (int b = 0; b < sub; ++b) {
+          float c = -1 + 2 * (ci + (a + 0.5f) / sub) / nCos;
+          float p = 2 * kPi * (pi + (b + 0.5f) / sub) / nPhi;
+          sum += bsdf.pdf(wo, direction(c, p), Vec2(0));
+        }
+      expected[ci * nPhi + pi] = N * sum / (sub * sub) * (2.0 / nCos) * (2 * kPi / nPhi);
+    }
+  return test::chiSquarePValue(observed, expected);
+}
+
+}  // namespace
+
+TEST_CASE("BSDF sampling matches its pdf (chi-square)") {
+  for (auto& c : smoothBsdfs()) {
+    for (float cosO : {0.95f, 0.6f, 0.2f, -0.7f}) {  // −0.7: seen from the back side
+      Vec3 wo = direction(cosO, 0.7f);
+      INFO(c.name << " cosθo=" << cosO);
+      CHECK(chiSquareBsdf(*c.bsdf, wo, 17) > 0.01 / 20);  // Bonferroni over the 20 tests
+    }
+  }
+}
+
+TEST_CASE("a wrong pdf fails the chi-square test") {
+  // Guard against a test that cannot fail: Phong whose pdf claims a different exponent.
+  struct Liar final : BSDF {
+    Phong sampler{Spectrum(0), Spectrum(1), 20}, claimed{Spectrum(0), Spectrum(1), 26};
+    Spectrum eval(const Vec3& o, const Vec3& i, const Vec2& uv) const override { return sampler.eval(o, i, uv); }
+    float pdf(const Vec3& o, const Vec3& i, const Vec2& uv) const override { return claimed.pdf(o, i, uv); }
+    bool sample(const Vec3& o, const Vec2& uv, const Vec2& u, float uc, TransportMode m, BSDFSample* s) const override {
+      return sampler.sample(o, uv, u, uc, m, s);
+    }
+    const char* name() const override { return "liar"; }
+  } liar;
+  CHECK(chiSquareBsdf(liar, direction(0.8f, 0.3f), 5) < 1e-6);
+}
+
+TEST_CASE("BSDF sample weight equals f·cosθ/pdf") {
+  Rng rng(3, 3);
+  for (auto& c : smoothBsdfs(0.8f)) {
+    for (int i = 0; i < 2000; ++i) {
+      Vec3 wo = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      BSDFSample s;
+      if (!c.bsdf->sample(wo, Vec2(0), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
+        continue;
+      float pdf = c.bsdf->pdf(wo, s.wi, Vec2(0));
+      Spectrum expected = c.bsdf->eval(wo, s.wi, Vec2(0)) * std::abs(s.wi.z) / pdf;
+      INFO(c.name);
+      REQUIRE(s.pdf == Approx(pdf).epsilon(1e-3));
+      REQUIRE(s.weight.g == Approx(expected.g).epsilon(1e-3).margin(1e-6));
+    }
+  }
+}
+
+TEST_CASE("BSDFs are reciprocal: f(wo - wi) = f(wi - wo)") {
+  Rng rng(4, 4);
+  for (auto& c : smoothBsdfs(0.9f)) {
+    for (int i = 0; i < 5000; ++i) {
+      Vec3 a = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      Vec3 b = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      Spectrum fab = c.bsdf->eval(a, b, Vec2(0)), fba = c.bsdf->eval(b, a, Vec2(0));
+      INFO(c.name);
+      REQUIRE(fab.r == Approx(fba.r).epsilon(1e-4).margin(1e-6));
+    }
+  }
+}
+
+TEST_CASE("white furnace: albedo ∫ f cosθ dω ≤ 1 - and = 1 where energy is conserved exactly") {
+  // Estimated by uniform hemisphere sampling of eval() (independent of each BSDF's sampler).
+  Rng rng(5, 5);
+  const int N = 400000;
+  for (auto& c : smoothBsdfs(1.0f)) {
+    for (float cosO : {0.9f, 0.5f, 0.1f}) {
+      Vec3 wo = direction(cosO, 0.0f);
+      double sum = 0;
+      for (int i = 0; i < N; ++i) {
+        Vec3 wi = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+        wi.z = std::abs(wi.z);  // upper hemisphere, pdf 1/2π
+        sum += c.bsdf->eval(wo, wi, Vec2(0)).g * wi.z * 2 * kPi;
+      }
+      double albedo = sum / N;
+      INFO(c.name << " cosθo=" << cosO << " albedo=" << albedo);
+      CHECK(albedo <= 1.0 + 0.01);
+      if (c.name == "lambertian") CHECK(albedo == Approx(1.0).epsilon(0.01));
+    }
+  }
+  // Modified Phong at normal incidence: the lobe around the normal integrates to exactly ks.
+  Phong specular(Spectrum(0.0f), Spectrum(1.0f), 10.0f);
+  double sum = 0;
+  for (int i = 0; i < N; ++i) {
+    Vec3 wi = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+    wi.z = std::abs(wi.z);
+    sum += specular.eval(Vec3(0, 0, 1), wi, Vec2(0)).g * wi.z * 2 * kPi;
+  }
+  CHECK(sum / N == Approx(1.0).epsilon(0.01));
+}
+
+TEST_CASE("Lambertian: f = ρ/π on both sides - zero across the surface") {
+  Lambertian l(ColorTexture(Spectrum(0.5f, 0.25f, 1.0f)));
+  Vec3 a = glm::normalize(Vec3(0.1f, 0.2f, 0.9f)), b = glm::normalize(Vec3(-0.4f, 0.1f, 0.5f));
+  CHECK(l.eval(a, b, Vec2(0)).r == Approx(0.5f / kPi));
+  CHECK(l.eval(-a, -b, Vec2(0)).g == Approx(0.25f / kPi));  // back side
+  CHECK(l.eval(a, -b, Vec2(0)).b == 0.0f);                   // no transmission
+}
+
+TEST_CASE("mirror reflects by R = 2(N·L)N − L with Schlick reflectance") {
+  Mirror m(ColorTexture(Spectrum(0.9f, 0.5f, 0.2f)));
+  Vec3 wo = glm::normalize(Vec3(0.3f, 0.2f, 0.6f));
+  BSDFSample s;
+  REQUIRE(m.sample(wo, Vec2(0), Vec2(0.3f), 0.5f, TransportMode::Radiance, &s));
+  Vec3 R = reflect(wo, Vec3(0, 0, 1));
+  CHECK(s.wi.x == Approx(R.x));
+  CHECK(s.wi.z == Approx(R.z));
+  CHECK(s.delta);
+  Spectrum F = fresnelSchlick(Spectrum(0.9f, 0.5f, 0.2f), wo.z);
+  CHECK(s.weight.g == Approx(F.g));
+  CHECK(m.eval(wo, s.wi, Vec2(0)).r == 0.0f);  // delta: eval and pdf are zero
+}
+
+TEST_CASE("dielectric: reflects with probability F - refracts by Snell - TIR inside") {
+  Dielectric glass(1.5f);
+  Rng rng(6, 6);
+  for (float cosO : {0.95f, 0.5f, 0.15f}) {
+    Vec3 wo = direction(cosO, 1.0f);
+    int reflected = 0;
+    const int N = 200000;
+    for (int i = 0; i < N; ++i) {
+      BSDFSample s;
+      REQUIRE(glass.sample(wo, Vec2(0), Vec2(0.5f), rng.uniform(), TransportMode::Radiance, &s));
+      if (s.wi.z > 0) {
+        ++reflected;
+      } else {
+        // η_i sinθ_i = η_t sinθ_t, transmitted radiance scaled by 1/η²
+        float sinO = std::sqrt(1 - cosO * cosO), sinT = std::sqrt(1 - s.wi.z * s.wi.z);
+        REQUIRE(sinO == Approx(1.5f * sinT).epsilon(1e-4));
+        REQUIRE(s.weight.r == Approx(1.0f / (1.5f * 1.5f)));
+      }
+    }
+    double F = fresnelDielectric(cosO, 1.5f);
+    double sigma = std::sqrt(F * (1 - F) / N);
+    INFO("cosθo=" << cosO << " F=" << F);
+    CHECK(std::abs(double(reflected) / N - F) < 5 * sigma);
+  }
+  // From inside, beyond the critical angle asin(1/1.5) = 41.8°: always reflected.
+  Vec3 inside = direction(-std::cos(glm::radians(50.0f)), 0.0f);
+  for (int i = 0; i < 100; ++i) {
+    BSDFSample s;
+    REQUIRE(glass.sample(inside, Vec2(0), Vec2(0.5f), rng.uniform(), TransportMode::Radiance, &s));
+    REQUIRE(s.wi.z < 0);
+  }
+  // Flux (importance transport) is not scaled by 1/η².
+  BSDFSample s;
+  REQUIRE(glass.sample(direction(1.0f, 0), Vec2(0), Vec2(0.5f), 0.99f, TransportMode::Importance, &s));
+  CHECK(s.weight.r == 1.0f);
+}

@@ -1,0 +1,88 @@
+// The command line as other tools call it: exit codes, one-line errors, no output file left
+// behind on failure, and the JSON of `compare`.
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gltf_fixture.h"
+
+using namespace pl::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(const std::string& args) {
+  std::string dir = GltfFixture::dir();
+  std::string cmd = std::string(PHOTONLAB_BINARY) + " " + args + " >" + dir + "/stdout.txt 2>" + dir + "/stderr.txt";
+  int status = std::system(cmd.c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir + "/stdout.txt"), slurp(dir + "/stderr.txt")};
+}
+
+void expectCleanFailure(const std::string& args, const std::string& output, const std::string& mentions) {
+  fs::remove(output);
+  Result r = run(args);
+  INFO(args << "\n" << r.err);
+  CHECK(r.code == 1);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // exactly one line
+  CHECK_THAT(r.err, Contains(mentions));
+  CHECK_FALSE(fs::exists(output));
+  for (auto& e : fs::directory_iterator(fs::path(output).parent_path()))
+    CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+}
+
+}  // namespace
+
+TEST_CASE("cli: render writes EXR and PNG - leaves no temporary file") {
+  GltfFixture f;
+  std::string scene = f.write("cli.gltf"), dir = GltfFixture::dir();
+  Result r = run("render " + scene + " -o " + dir + "/a.exr -o " + dir + "/a.png --width 8 --spp 2 --threads 2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(fs::file_size(dir + "/a.exr") > 0);
+  CHECK(fs::file_size(dir + "/a.png") > 0);
+  Result c = run("compare " + dir + "/a.exr " + dir + "/a.exr");
+  REQUIRE(c.code == 0);
+  CHECK(nlohmann::json::parse(c.out) == nlohmann::json::parse(R"({"rmse":0,"relmse":0,"mae":0,"mean_ratio":1})"));
+}
+
+TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
+  GltfFixture f;
+  std::string scene = f.write("cli-errors.gltf"), dir = GltfFixture::dir(), out = dir + "/never.exr";
+  expectCleanFailure("render " + dir + "/missing.gltf -o " + out, out, "missing.gltf");
+  expectCleanFailure("render " + GltfFixture::writeText("broken.gltf", "{") + " -o " + out, out, "broken.gltf");
+  expectCleanFailure("render " + scene + " -o " + out + " --integrator nope", out, "--integrator");
+  expectCleanFailure("render " + scene + " -o " + out + " --spp 0", out, "--spp");
+  expectCleanFailure("render " + scene + " -o " + out + " --width -5", out, "--width");
+  expectCleanFailure("render " + scene + " -o " + out + " --time -1", out, "--time");
+  expectCleanFailure("render " + scene + " -o " + out + " --spp abc", out, "--spp");
+  expectCleanFailure("render " + scene + " -o " + out + " --no-such-flag", out, "no-such-flag");
+  expectCleanFailure("render " + scene + " -o " + dir + "/never.jpg", dir + "/never.jpg", ".exr or .png");
+  expectCleanFailure("render " + scene + " -o " + dir + "/no/such/dir/x.exr", dir + "/no/such/dir/x.exr", "does not exist");
+  Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
+  CHECK(c.code == 1);
+  CHECK_THAT(c.err, Contains("nothing.exr"));
+}
+
+TEST_CASE("cli: info reports the lights' power in watts") {
+  GltfFixture f;
+  Result r = run("info " + f.write("cli-info.gltf"));
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Contains("triangles: 2"));
+  CHECK_THAT(r.out, Contains("point"));
+  CHECK_THAT(r.out, Contains("25.1327"));  // 4π · 2 W/sr
+}

@@ -1,0 +1,193 @@
+// The glTF loader: what it accepts (buffers as data URIs, files and GLB chunks, hierarchies,
+// the material and light mapping) and one test per kind of bad input, each a one-line error
+// naming the file and the element.
+#include <catch2/catch.hpp>
+
+#include "bsdfs/dielectric.h"
+#include "gltf_fixture.h"
+#include "scene/gltf_loader.h"
+
+using namespace pl;
+using namespace pl::test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string loadError(const std::string& path) {
+  try {
+    loadGltf(path);
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    CHECK(msg.find('\n') == std::string::npos);  // one line
+    CHECK_THAT(msg, Contains(path));             // names the file
+    return msg;
+  }
+  FAIL("loading " << path << " did not fail");
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("loader: a valid scene - as .gltf with a data URI - an external .bin - and .glb") {
+  GltfFixture f;
+  for (const std::string& path : {f.write("ok.gltf"), f.writeWithExternalBuffer("ext.gltf"), f.writeGlb("ok.glb")}) {
+    INFO(path);
+    auto scene = loadGltf(path);
+    CHECK(scene->triangleCount() == 2);
+    REQUIRE(scene->lights().size() == 1);
+    CHECK(scene->totalPower().g == Approx(4 * kPi * 2.0f));  // point: Φ = 4πI
+    CHECK(scene->camera().position.y == Approx(2.0f));
+    CHECK(scene->camera().forward.y == Approx(-1.0f).margin(1e-5));  // −Z rotated to look down
+    // The floor is hit straight below the camera, flat-shaded (no NORMAL): face normal.
+    SurfaceHit hit;
+    REQUIRE(scene->intersect(Ray{Vec3(0.3f, 2, 0.2f), Vec3(0, -1, 0)}, &hit));
+    CHECK(hit.t == Approx(2.0f));
+    CHECK(std::abs(hit.shading.n.y) == Approx(1.0f));
+  }
+}
+
+TEST_CASE("loader: node hierarchy and transforms - non-indexed triangles - NORMAL interpolation") {
+  GltfFixture f;
+  // Parent translates by (5, 0, 0) and scales the child's mesh by 2.
+  f.doc["nodes"][0] = {{"translation", {5, 0, 0}}, {"children", {3}}};
+  f.doc["nodes"].push_back({{"mesh", 0}, {"scale", {2, 2, 2}}});
+  auto scene = loadGltf(f.write("hier.gltf"));
+  CHECK(scene->bounds().lo.x == Approx(3.0f));
+  CHECK(scene->bounds().hi.x == Approx(7.0f));
+  // Non-indexed: 6 vertices, drawn in order.
+  GltfFixture g;
+  float p[18] = {-1, 0, -1, -1, 0, 1, 1, 0, 1, -1, 0, -1, 1, 0, 1, 1, 0, -1};
+  float n[18] = {0, 1, 0, 0, 1, 0, 1, 0, 0, 0, 1, 0, 1, 0, 0, 1, 0, 0};
+  g.bin.resize(144);
+  std::memcpy(g.bin.data(), p, 72);
+  std::memcpy(g.bin.data() + 72, n, 72);
+  g.doc["buffers"][0]["byteLength"] = 144;
+  g.doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 72}},
+                                      {{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 72}}});
+  g.doc["accessors"][0]["count"] = 6;
+  g.doc["accessors"][1] = {{"bufferView", 1}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}};
+  g.doc["meshes"][0]["primitives"][0].erase("indices");
+  g.doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 1;
+  auto s2 = loadGltf(g.write("nonindexed.gltf"));
+  CHECK(s2->triangleCount() == 2);
+  SurfaceHit hit;
+  // First triangle, near the vertex at (1, 0, 1) whose normal is +x: interpolated normal tilts.
+  REQUIRE(s2->intersect(Ray{Vec3(0.9f, 1, 0.9f), Vec3(0, -1, 0)}, &hit));
+  CHECK(hit.shading.n.x > 0.3f);
+  CHECK(hit.ng.y == Approx(-1.0f).margin(1e-5));  // this quad's winding faces down (CW from above)
+}
+
+TEST_CASE("loader: material mapping and KHR_materials_* defaults") {
+  GltfFixture f;
+  json& mats = f.doc["materials"];
+  mats = json::array();
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});                               // 0 lambertian
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});      // 1 mirror
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.4}}}});      // 2 ggx
+  mats.push_back({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},         // 3 glass
+                                  {"KHR_materials_volume", {{"thicknessFactor", 0.1}}}}}});
+  mats.push_back({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}},      // 4 thin: lambertian
+                  {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+  mats.push_back({{"extras", {{"photonlab", {{"phong", {{"kd", 0.3}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 30}}}}}}}});  // 5
+  mats.push_back({{"emissiveFactor", {1.0, 0.5, 0.25}},                                                 // 6 emitter
+                  {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 8.0}}}}},
+                  {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
+  for (int i = 0; i < 7; ++i) f.doc["meshes"][0]["primitives"].push_back(
+      {{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", i}});
+  auto scene = loadGltf(f.write("materials.gltf"));
+  const auto& m = scene->materials();
+  CHECK(std::string(m[0].bsdf->name()) == "lambertian");
+  CHECK(std::string(m[1].bsdf->name()) == "mirror");
+  CHECK(std::string(m[2].bsdf->name()) == "ggx");
+  CHECK(std::string(m[3].bsdf->name()) == "dielectric");
+  CHECK(static_cast<const Dielectric*>(m[3].bsdf.get())->eta() == Approx(1.5f));  // KHR_materials_ior default
+  CHECK(std::string(m[4].bsdf->name()) == "lambertian");
+  CHECK(std::string(m[5].bsdf->name()) == "phong");
+  CHECK(m[6].emission.r == Approx(8.0f));
+  CHECK(m[6].emission.b == Approx(2.0f));
+  // Emissive triangles became area lights: Φ = π·Le·A per face, A = 4 m².
+  Spectrum areaPower(0.0f);
+  for (auto& l : scene->lights())
+    if (!l->isDelta()) areaPower += l->power();
+  CHECK(areaPower.r == Approx(kPi * 8.0f * 4.0f));
+}
+
+
+TEST_CASE("loader: extras.photonlab power and warn_exponent on lights") {
+  GltfFixture f;
+  f.doc["extensions"]["KHR_lights_punctual"]["lights"] = json::array({
+      {{"type", "point"}, {"intensity", 123.0}, {"extras", {{"photonlab", {{"power", 50.0}}}}}},
+      {{"type", "spot"}, {"extras", {{"photonlab", {{"power", 20.0}, {"warn_exponent", 10.0}}}}}},
+      {{"type", "spot"}, {"intensity", 3.0}},  // spec defaults: inner 0, outer π/4
+  });
+  for (int i = 1; i < 3; ++i)
+    f.doc["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}, {"translation", {0, 1, 0}}});
+  f.doc["scenes"][0]["nodes"] = {0, 1, 2, 3, 4};
+  auto scene = loadGltf(f.write("lights.gltf"));
+  REQUIRE(scene->lights().size() == 3);
+  CHECK(scene->lights()[0]->power().g == Approx(50.0f));
+  CHECK(std::string(scene->lights()[1]->name()) == "warn");
+  CHECK(scene->lights()[1]->power().g == Approx(20.0f));
+  float co = std::cos(kPi / 4);
+  CHECK(scene->lights()[2]->power().g == Approx(3.0f * 2 * kPi * (1 - co) / 3).epsilon(1e-4));
+}
+
+TEST_CASE("loader errors: missing file - malformed JSON") {
+  CHECK_THAT(loadError(GltfFixture::dir() + "/does-not-exist.gltf"), Contains("cannot open"));
+  CHECK_THAT(loadError(GltfFixture::writeText("bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")), Contains("json"));
+  CHECK_THAT(loadError(GltfFixture::writeText("truncated.glb", "glTF\x02\x00\x00\x00")), Contains("glb"));
+}
+
+TEST_CASE("loader errors: short buffer - missing external buffer - view past the buffer") {
+  GltfFixture f;
+  f.bin.resize(40);  // byteLength still claims 72
+  loadError(f.write("short.gltf"));
+  GltfFixture g;
+  std::string path = g.writeWithExternalBuffer("missing-bin.gltf");
+  std::filesystem::remove(path + ".bin");
+  loadError(path);
+  GltfFixture h;
+  h.doc["bufferViews"][1]["byteLength"] = 400;
+  CHECK_THAT(loadError(h.write("view.gltf")), Contains("bufferViews[1]"));
+}
+
+TEST_CASE("loader errors: index out of range - huge accessor count - non-finite values") {
+  GltfFixture f;
+  uint32_t bad = 7;
+  std::memcpy(f.bin.data() + 48 + 8, &bad, 4);
+  CHECK_THAT(loadError(f.write("index.gltf")), Contains("indices"));
+  GltfFixture g;
+  g.doc["accessors"][0]["count"] = 1000000000;  // checked against the data, never allocated
+  CHECK_THAT(loadError(g.write("count.gltf")), Contains("accessors[0]"));
+  GltfFixture h;
+  float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(h.bin.data() + 4, &nan, 4);
+  CHECK_THAT(loadError(h.write("nan.gltf")), Contains("not finite"));
+  GltfFixture k;
+  k.doc["nodes"][2]["translation"] = {0, 1e39, 0};  // parses to +inf
+  loadError(k.write("inf.gltf"));
+}
+
+TEST_CASE("loader errors: no camera - no light - bad light and material values") {
+  GltfFixture f;
+  f.doc["scenes"][0]["nodes"] = {0, 2};
+  CHECK_THAT(loadError(f.write("nocamera.gltf")), Contains("camera"));
+  GltfFixture g;
+  g.doc["scenes"][0]["nodes"] = {0, 1};
+  CHECK_THAT(loadError(g.write("nolight.gltf")), Contains("no light"));
+  GltfFixture h;
+  h.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"power", -5}}}};
+  CHECK_THAT(loadError(h.write("negpower.gltf")), Contains("power"));
+  GltfFixture k;
+  k.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {2.0, 0.5, 0.5, 1};
+  CHECK_THAT(loadError(k.write("basecolor.gltf")), Contains("baseColorFactor"));
+  GltfFixture m;
+  m.doc["materials"][0]["extras"] = {{"photonlab", {{"phong", {{"kd", 0.6}, {"ks", 0.6}, {"exponent", 10}}}}}};
+  CHECK_THAT(loadError(m.write("phong.gltf")), Contains("energy conservation"));
+  GltfFixture n;
+  n.doc["cameras"][0]["perspective"]["yfov"] = -1;
+  CHECK_THAT(loadError(n.write("yfov.gltf")), Contains("yfov"));
+  GltfFixture c;
+  c.doc["nodes"][0]["children"] = {0};  // a cycle
+  loadError(c.write("cycle.gltf"));
+}

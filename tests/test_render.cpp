@@ -1,0 +1,220 @@
+// Whole renders at small resolution against closed forms, agreement between integrators, and
+// determinism across thread counts.
+#include <catch2/catch.hpp>
+
+#include "bsdfs/dielectric.h"
+#include "bsdfs/lambertian.h"
+#include "lights/point_light.h"
+#include "lights/warn_spotlight.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+
+using namespace pl;
+
+namespace {
+
+const float kRho = 0.6f;
+
+// A large diffuse floor at y = 0, seen from (0, H, 0) looking straight down.
+std::unique_ptr<Scene> floorScene(float cameraHeight, float yfov) {
+  auto scene = std::make_unique<Scene>();
+  uint32_t m = scene->addMaterial({"floor", std::make_unique<Lambertian>(ColorTexture(Spectrum(kRho))), Spectrum(0), false});
+  float s = 50.0f;
+  scene->addMesh({{-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}}, {}, {}, {0, 1, 2, 0, 2, 3}, m);
+  Camera cam;
+  cam.position = Vec3(0, cameraHeight, 0);
+  cam.forward = Vec3(0, -1, 0);
+  cam.up = Vec3(0, 0, -1);
+  cam.right = glm::cross(cam.forward, cam.up);
+  cam.yfov = yfov;
+  scene->setCamera(cam);
+  return scene;
+}
+
+// The floor point seen through film position (x, y), and the pixel's expected value: the
+// closed form averaged over the pixel (box filter) on a 6×6 grid.
+template <typename Radiance>
+ImageRGB expectedImage(const Scene& scene, int W, int H, Radiance radianceAt) {
+  ImageRGB img(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      double sum = 0;
+      for (int a = 0; a < 6; ++a)
+        for (int b = 0; b < 6; ++b) {
+          Ray r = scene.camera().generateRay(x + (a + 0.5f) / 6, y + (b + 0.5f) / 6, W, H);
+          float t = -r.o.y / r.d.y;
+          sum += radianceAt(r.o + t * r.d);
+        }
+      img.set(x, y, Spectrum(float(sum / 36)));
+    }
+  return img;
+}
+
+double maxRelativeError(const ImageRGB& a, const ImageRGB& b) {
+  double worst = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, std::abs(a.data[i] / b.data[i] - 1.0));
+  return worst;
+}
+
+double mean(const ImageRGB& img) {
+  double s = 0;
+  for (float v : img.data) s += v;
+  return s / img.data.size();
+}
+
+ImageRGB renderWith(const Scene& scene, const std::string& integrator, int W, int spp, int threads = 0, int maxDepth = 64) {
+  RenderOptions o;
+  o.width = o.height = W;
+  o.spp = spp;
+  o.threads = threads;
+  auto in = makeIntegrator(integrator, IntegratorOptions{maxDepth});
+  return render(scene, *in, o, nullptr);
+}
+
+}  // namespace
+
+TEST_CASE("point light over a diffuse floor: L = ρ/π · I cosθ / r² (E = Φ cosθ / 4πr²)") {
+  const float h = 1.0f, I = 5.0f;
+  auto scene = floorScene(2.5f, 0.8f);
+  scene->addLight(std::make_unique<PointLight>(Vec3(0, h, 0), Spectrum(I)));
+  scene->commit();
+  ImageRGB expected = expectedImage(*scene, 16, 16, [&](const Vec3& p) {
+    float r2 = h * h + p.x * p.x + p.z * p.z, cosTheta = h / std::sqrt(r2);
+    return kRho / kPi * I * cosTheta / r2;
+  });
+  // Directly below the light the classic formula: L = ρ/π · I/h².
+  Ray centre = scene->camera().generateRay(8, 8, 16, 16);
+  CHECK(centre.d.y == Approx(-1.0f));
+  for (const char* integrator : {"direct", "whitted", "path"}) {
+    INFO(integrator);
+    ImageRGB img = renderWith(*scene, integrator, 16, 16);
+    CHECK(maxRelativeError(img, expected) < 0.01);
+  }
+}
+
+TEST_CASE("Warn spotlight over a floor: L = ρ/π · c cosˢθ · cosθ / r²") {
+  const float h = 1.2f, s = 6.0f;
+  auto scene = floorScene(2.5f, 0.9f);
+  Spectrum c = WarnSpotlight::cForPower(Spectrum(20.0f), s);
+  scene->addLight(std::make_unique<WarnSpotlight>(Vec3(0, h, 0), Vec3(0, -1, 0), c, s));
+  scene->commit();
+  ImageRGB expected = expectedImage(*scene, 16, 16, [&](const Vec3& p) {
+    float r2 = h * h + p.x * p.x + p.z * p.z, cosTheta = h / std::sqrt(r2);
+    return kRho / kPi * c.g * std::pow(cosTheta, s) * cosTheta / r2;
+  });
+  CHECK(maxRelativeError(renderWith(*scene, "path", 16, 16), expected) < 0.01);
+}
+
+TEST_CASE("small area light over a floor: Lambert's polygon formula - direct and path agree") {
+  // Square light (side 0.2 m) at height 0.5 m facing down, radiance 10 W/(m²·sr).
+  const float h = 0.5f, a = 0.1f, Le = 10.0f;
+  auto scene = floorScene(2.0f, 0.6f);
+  uint32_t light = scene->addMaterial({"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0))), Spectrum(Le), false});
+  Vec3 v[4] = {{-a, h, -a}, {a, h, -a}, {a, h, a}, {-a, h, a}};  // counter-clockwise seen from below
+  scene->addMesh({v[0], v[1], v[2], v[3]}, {}, {}, {0, 1, 2, 0, 2, 3}, light);
+  scene->commit();
+  REQUIRE(scene->lights().size() == 2);
+  CHECK(scene->totalPower().g == Approx(kPi * Le * 4 * a * a));
+  ImageRGB expected = expectedImage(*scene, 12, 12, [&](const Vec3& x) {
+    double E = 0;
+    for (int i = 0; i < 4; ++i) {
+      Vec3 ui = glm::normalize(v[i] - x), uj = glm::normalize(v[(i + 1) % 4] - x);
+      E += std::acos(std::clamp(glm::dot(ui, uj), -1.0f, 1.0f)) * glm::normalize(glm::cross(ui, uj)).y;
+    }
+    return float(kRho / kPi * Le * std::abs(E) / 2);
+  });
+  // The light itself hides the floor right below it from the camera: skip those pixels.
+  auto compare = [&](const ImageRGB& img) {
+    double worst = 0, sumImg = 0, sumExp = 0;
+    for (int y = 0; y < 12; ++y)
+      for (int x = 0; x < 12; ++x) {
+        Ray r = scene->camera().generateRay(x + 0.5f, y + 0.5f, 12, 12);
+        Vec3 p = r.o + (-r.o.y / r.d.y) * r.d;
+        if (std::abs(p.x) < 0.35f && std::abs(p.z) < 0.35f) continue;
+        worst = std::max(worst, double(std::abs(img.at(x, y).g / expected.at(x, y).g - 1)));
+        sumImg += img.at(x, y).g;
+        sumExp += expected.at(x, y).g;
+      }
+    CHECK(sumImg / sumExp == Approx(1.0).epsilon(0.01));
+    CHECK(worst < 0.06);
+  };
+  compare(renderWith(*scene, "direct", 12, 256));
+  compare(renderWith(*scene, "path", 12, 256));
+}
+
+TEST_CASE("closed diffuse furnace sphere: L = Le / (1 − ρ)") {
+  // scenes/furnace.gltf: Le = 1, ρ = 0.5, so every pixel converges to 2.
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
+  ImageRGB img = renderWith(*scene, "path", 12, 64);
+  CHECK(mean(img) == Approx(2.0).epsilon(0.01));
+  for (float v : img.data) REQUIRE(v == Approx(2.0f).epsilon(0.15));
+  // Truncating the series after the first bounce gives Le + ρ·Le exactly: a check that depth
+  // is counted in bounces.
+  ImageRGB one = renderWith(*scene, "path", 12, 64, 0, 1);
+  CHECK(mean(one) == Approx(1.5).epsilon(0.01));
+  // Direct illumination alone: Le + ρ·Le as well (one bounce of emitted light).
+  CHECK(mean(renderWith(*scene, "direct", 12, 64)) == Approx(1.5).epsilon(0.01));
+}
+
+TEST_CASE("glass slab in front of an emitter: transmittance (1 − R)/(1 + R) - Whitted = path") {
+  // Normal incidence through two parallel interfaces, all internal reflections summed:
+  // T = (1 − R)² Σ R^{2k} = (1 − R)/(1 + R), R = ((η − 1)/(η + 1))². Radiance scaling by η²
+  // in and 1/η² out cancels.
+  const float eta = 1.5f, Le = 3.0f;
+  Scene scene;
+  uint32_t glass = scene.addMaterial({"glass", std::make_unique<Dielectric>(eta), Spectrum(0), false});
+  uint32_t emitter = scene.addMaterial({"emitter", std::make_unique<Lambertian>(ColorTexture(Spectrum(0))), Spectrum(Le), false});
+  float s = 5.0f;
+  // Front face (normal +z, towards the camera) at z = 0, back face (normal −z) at z = −0.2.
+  scene.addMesh({{-s, -s, 0}, {s, -s, 0}, {s, s, 0}, {-s, s, 0}}, {}, {}, {0, 1, 2, 0, 2, 3}, glass);
+  scene.addMesh({{-s, -s, -0.2f}, {-s, s, -0.2f}, {s, s, -0.2f}, {s, -s, -0.2f}}, {}, {}, {0, 1, 2, 0, 2, 3}, glass);
+  scene.addMesh({{-s, -s, -1}, {s, -s, -1}, {s, s, -1}, {-s, s, -1}}, {}, {}, {0, 1, 2, 0, 2, 3}, emitter);
+  Camera cam;
+  cam.position = Vec3(0, 0, 2);
+  cam.yfov = 0.01f;  // nearly normal incidence everywhere in the image
+  scene.setCamera(cam);
+  scene.commit();
+  double R = std::pow((eta - 1) / (eta + 1), 2), T = (1 - R) / (1 + R);
+  CHECK(mean(renderWith(scene, "whitted", 4, 1)) == Approx(Le * T).epsilon(1e-4));
+  CHECK(mean(renderWith(scene, "path", 8, 1024)) == Approx(Le * T).epsilon(0.01));
+  // Direct sees only emission: glass is black to it.
+  CHECK(mean(renderWith(scene, "direct", 4, 1)) == 0.0);
+}
+
+TEST_CASE("Cornell box: direct ≤ path - and whitted = direct on a diffuse-only scene") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+  double direct = mean(renderWith(*scene, "direct", 16, 32));
+  double whitted = mean(renderWith(*scene, "whitted", 16, 32));
+  double path = mean(renderWith(*scene, "path", 16, 32));
+  CHECK(whitted == Approx(direct).epsilon(1e-6));
+  // Interreflection in a closed white box adds a large fraction of the direct light.
+  CHECK(path > 1.3 * direct);
+}
+
+TEST_CASE("rendering is bit-identical whatever the thread count") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");
+  ImageRGB a = renderWith(*scene, "path", 24, 4, 1), b = renderWith(*scene, "path", 24, 4, 2),
+           c = renderWith(*scene, "path", 24, 4, 3);
+  CHECK(a.data == b.data);
+  CHECK(a.data == c.data);
+  RenderOptions o;
+  o.width = o.height = 24;
+  o.spp = 4;
+  o.seed = 2;
+  auto path = makeIntegrator("path", {});
+  ImageRGB d = render(*scene, *path, o, nullptr);
+  CHECK(a.data != d.data);  // and the seed matters
+}
+
+TEST_CASE("--width alone keeps the camera's aspect ratio") {
+  Camera cam;
+  cam.aspectRatio = 4.0f / 3.0f;
+  RenderOptions o;
+  o.width = 320;
+  resolveResolution(cam, o);
+  CHECK(o.height == 240);
+  RenderOptions p;
+  resolveResolution(cam, p);
+  CHECK(p.width == 512);
+  CHECK(p.height == 384);
+}
