@@ -39,7 +39,7 @@ Vec3 direction(float cosTheta, float phi) {
 
 // Histogram of sampled directions over (cosθ, φ) against ∫ pdf dω per cell.
 double chiSquareBsdf(const BSDF& bsdf, const Vec3& wo, uint64_t seed) {
-  const int nCos = 20, nPhi = 40, N = 400000, sub = 6;
+  const int nCos = 20, nPhi = 40, N = 400000, sub = 16;
   std::vector<double> observed(nCos * nPhi, 0), expected(nCos * nPhi, 0);
   Rng rng(seed, 1);
   for (int i = 0; i < N; ++i) {

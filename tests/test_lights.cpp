@@ -115,7 +115,7 @@ TEST_CASE("Warn spotlight: I(θ) = c cosˢθ with c = (s+1)Φ/2π integrates to 
 }
 
 TEST_CASE("area light: Φ = π·L·A - photons' mean flux is Φ - directions cosine-distributed") {
-  Vec3 a(0, 1, 0), b(0, 1, 1), c(1, 1, 0);  // area 1/2; counter-clockwise seen from below
+  Vec3 a(0, 1, 0), b(1, 1, 0), c(0, 1, 1);  // area 1/2; counter-clockwise seen from below
   AreaLight one(a, b, c, Spectrum(3.0f), false);
   CHECK(one.normal().y == Approx(-1.0f));
   CHECK(one.area() == Approx(0.5f));
@@ -142,7 +142,7 @@ TEST_CASE("area light: Φ = π·L·A - photons' mean flux is Φ - directions cos
 
 TEST_CASE("area light sampling reproduces Lambert's irradiance formula for a polygon") {
   // E at x = (L/2) Σ_edges β_i (n · unit(u_i × u_{i+1})), u_i unit vectors towards the vertices.
-  Vec3 v[4] = {{-0.3f, 1, -0.2f}, {-0.3f, 1, 0.4f}, {0.5f, 1, 0.4f}, {0.5f, 1, -0.2f}};
+  Vec3 v[4] = {{-0.3f, 1, -0.2f}, {0.5f, 1, -0.2f}, {0.5f, 1, 0.4f}, {-0.3f, 1, 0.4f}};  // faces down
   AreaLight t0(v[0], v[1], v[2], Spectrum(2.0f), false), t1(v[0], v[2], v[3], Spectrum(2.0f), false);
   for (Vec3 x : {Vec3(0, 0, 0), Vec3(0.7f, 0.2f, -0.5f)}) {
     Vec3 n(0, 1, 0);

@@ -1,6 +1,8 @@
 // The glTF loader: what it accepts (buffers as data URIs, files and GLB chunks, hierarchies,
 // the material and light mapping) and one test per kind of bad input, each a one-line error
 // naming the file and the element.
+#include <sys/resource.h>
+
 #include <catch2/catch.hpp>
 
 #include "bsdfs/dielectric.h"
@@ -74,7 +76,7 @@ TEST_CASE("loader: node hierarchy and transforms - non-indexed triangles - NORMA
   // First triangle, near the vertex at (1, 0, 1) whose normal is +x: interpolated normal tilts.
   REQUIRE(s2->intersect(Ray{Vec3(0.9f, 1, 0.9f), Vec3(0, -1, 0)}, &hit));
   CHECK(hit.shading.n.x > 0.3f);
-  CHECK(hit.ng.y == Approx(-1.0f).margin(1e-5));  // this quad's winding faces down (CW from above)
+  CHECK(hit.ng.y == Approx(1.0f).margin(1e-5));  // counter-clockwise seen from above: faces up
 }
 
 TEST_CASE("loader: material mapping and KHR_materials_* defaults") {
@@ -117,8 +119,8 @@ TEST_CASE("loader: extras.photonlab power and warn_exponent on lights") {
   GltfFixture f;
   f.doc["extensions"]["KHR_lights_punctual"]["lights"] = json::array({
       {{"type", "point"}, {"intensity", 123.0}, {"extras", {{"photonlab", {{"power", 50.0}}}}}},
-      {{"type", "spot"}, {"extras", {{"photonlab", {{"power", 20.0}, {"warn_exponent", 10.0}}}}}},
-      {{"type", "spot"}, {"intensity", 3.0}},  // spec defaults: inner 0, outer π/4
+      {{"type", "spot"}, {"spot", json::object()}, {"extras", {{"photonlab", {{"power", 20.0}, {"warn_exponent", 10.0}}}}}},
+      {{"type", "spot"}, {"spot", json::object()}, {"intensity", 3.0}},  // spec defaults: inner 0, outer π/4
   });
   for (int i = 1; i < 3; ++i)
     f.doc["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}, {"translation", {0, 1, 0}}});
@@ -159,6 +161,9 @@ TEST_CASE("loader errors: index out of range - huge accessor count - non-finite 
   GltfFixture g;
   g.doc["accessors"][0]["count"] = 1000000000;  // checked against the data, never allocated
   CHECK_THAT(loadError(g.write("count.gltf")), Contains("accessors[0]"));
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  CHECK(usage.ru_maxrss < 512 * 1024);  // KiB: far below the 12 GB that count would take
   GltfFixture h;
   float nan = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(h.bin.data() + 4, &nan, 4);
@@ -190,4 +195,35 @@ TEST_CASE("loader errors: no camera - no light - bad light and material values")
   GltfFixture c;
   c.doc["nodes"][0]["children"] = {0};  // a cycle
   loadError(c.write("cycle.gltf"));
+}
+
+TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - looked up by TEXCOORD_0") {
+  // A 2×1 BMP: left texel sRGB (255, 0, 0), right texel sRGB (0, 0, 188) ≈ linear 0.5 blue.
+  std::vector<uint8_t> bmp = {'B', 'M', 62, 0, 0, 0, 0, 0, 0, 0, 54, 0, 0, 0,  // file header
+                              40, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0, 0, 1, 0, 24, 0, 0, 0, 0, 0, 8, 0, 0, 0,
+                              0x13, 0x0B, 0, 0, 0x13, 0x0B, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,  // DIB header
+                              0, 0, 255, 188, 0, 0, 0, 0};  // BGR BGR + padding to 4 bytes
+  GltfFixture f;
+  float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};  // u = (x + 1)/2, v = (z + 1)/2
+  f.bin.resize(104);
+  std::memcpy(f.bin.data() + 72, uv, 32);
+  f.doc["buffers"][0]["byteLength"] = 104;
+  f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
+  f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+  f.doc["images"] = {{{"uri", "data:image/bmp;base64," + base64(bmp)}}};
+  f.doc["textures"] = {{{"source", 0}}};
+  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 0.5, 1.0};
+  auto scene = loadGltf(f.write("texture.gltf"));
+  auto albedoAt = [&](float x) {
+    SurfaceHit hit;
+    REQUIRE(scene->intersect(Ray{Vec3(x, 1, 0), Vec3(0, -1, 0)}, &hit));
+    return hit.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), hit.uv) * kPi;
+  };
+  Spectrum left = albedoAt(-0.5f), right = albedoAt(0.5f);  // u = 0.25 and 0.75: texel centres
+  CHECK(left.r == Approx(1.0f));
+  CHECK(left.b == Approx(0.0f).margin(1e-6));
+  CHECK(right.r == Approx(0.0f).margin(1e-6));
+  CHECK(right.b == Approx(0.5f * 0.5029f).epsilon(2e-3));  // factor 0.5 × sRGB⁻¹(188/255)
 }

@@ -66,18 +66,33 @@ PathRate pathTracerRate(const Scene& scene, int threads, int spp) {
   return {256.0 * 256.0 * stats.spp / stats.seconds, rays / stats.seconds};
 }
 
+// The machine is shared and noisy: report the best of three runs of each measurement.
+template <typename Measure>
+auto bestOf3(Measure measure) {
+  auto best = measure();
+  for (int i = 0; i < 2; ++i) {
+    auto m = measure();
+    if (m > best) best = m;
+  }
+  return best;
+}
+
+bool operator>(const PathRate& a, const PathRate& b) { return a.samplesPerSecond > b.samplesPerSecond; }
+
 }  // namespace
 
 int runBench(const std::string& scenePath, int threads, int spp) {
   auto scene = loadGltf(scenePath);
   int all = resolveThreads(threads);
-  std::printf("photonlab bench: %s (%zu triangles), path tracer at 256x256, %d spp\n\n", scenePath.c_str(),
-              scene->triangleCount(), spp);
+  std::printf("photonlab bench: %s (%zu triangles), path tracer at 256x256, %d spp, best of 3\n\n",
+              scenePath.c_str(), scene->triangleCount(), spp);
   std::printf("| measure | 1 thread | %d threads |\n|---|---|---|\n", all);
   embreeRaysPerSecond(*scene, all);  // warm-up
-  double e1 = embreeRaysPerSecond(*scene, 1), eN = embreeRaysPerSecond(*scene, all);
+  double e1 = bestOf3([&] { return embreeRaysPerSecond(*scene, 1); });
+  double eN = bestOf3([&] { return embreeRaysPerSecond(*scene, all); });
   std::printf("| bare Embree incoherent rays (M rays/s) | %.2f | %.2f |\n", e1 / 1e6, eN / 1e6);
-  PathRate p1 = pathTracerRate(*scene, 1, spp), pN = pathTracerRate(*scene, all, spp);
+  PathRate p1 = bestOf3([&] { return pathTracerRate(*scene, 1, spp); });
+  PathRate pN = bestOf3([&] { return pathTracerRate(*scene, all, spp); });
   std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", p1.samplesPerSecond / 1e3, pN.samplesPerSecond / 1e3);
   std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", p1.raysPerSecond / 1e6, pN.raysPerSecond / 1e6);
   std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * p1.raysPerSecond / e1, 100 * pN.raysPerSecond / eN);

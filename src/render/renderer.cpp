@@ -22,7 +22,8 @@ class Progress {
  public:
   explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
   void update(double fraction, double elapsed) {
-    if (!enabled_) return;
+    if (!enabled_ || (elapsed - last_ < 0.1 && fraction < 1)) return;  // at most 10 updates/s
+    last_ = elapsed;
     int width = 40, filled = int(fraction * width);
     double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
     std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %6.1fs  ETA %6.1fs", filled, "########################################",
@@ -35,6 +36,7 @@ class Progress {
 
  private:
   bool enabled_;
+  double last_ = -1;
 };
 
 }  // namespace

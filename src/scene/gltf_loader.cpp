@@ -29,6 +29,10 @@ std::string oneLine(std::string s) {
   return s;
 }
 
+// An accessor without a bufferView is all zeros (the spec allows it for sparse data): its
+// count is not backed by any bytes in the file, so cap it.
+constexpr size_t kMaxElementsWithoutData = 1u << 24;
+
 class Loader {
  public:
   Loader(std::string path, std::vector<std::string>* warnings) : path_(std::move(path)), warnings_(warnings) {}
@@ -93,10 +97,13 @@ class Loader {
     bool isNorm = normalizedIntsOk && acc.normalized &&
                   (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
     if (!isFloat && !isNorm) fail(el, "unsupported componentType " + std::to_string(ct));
-    std::vector<float> out(acc.count * size_t(components), 0.0f);
     const unsigned char* base;
     size_t stride;
-    if (!elementData(acc, el, &base, &stride)) return out;  // no bufferView: all zeros (spec)
+    // Validated against the data before anything is allocated from the file's count.
+    bool hasData = elementData(acc, el, &base, &stride);
+    if (!hasData && acc.count > kMaxElementsWithoutData) fail(el, "count " + std::to_string(acc.count) + " without data");
+    std::vector<float> out(acc.count * size_t(components), 0.0f);
+    if (!hasData) return out;  // no bufferView: all zeros (spec)
     int compSize = tinygltf::GetComponentSizeInBytes(ct);
     for (size_t i = 0; i < acc.count; ++i) {
       const unsigned char* e = base + i * stride;
@@ -126,10 +133,10 @@ class Loader {
     if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
         ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
       fail(el, "indices must be unsigned byte, short or int");
-    std::vector<uint32_t> out(acc.count, 0);
     const unsigned char* base;
     size_t stride;
-    if (!elementData(acc, el, &base, &stride)) return out;
+    if (!elementData(acc, el, &base, &stride)) fail(el, "indices without a bufferView");
+    std::vector<uint32_t> out(acc.count, 0);
     for (size_t i = 0; i < acc.count; ++i) {
       const unsigned char* e = base + i * stride;
       if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {

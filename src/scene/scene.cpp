@@ -186,8 +186,16 @@ Ray Scene::spawnRay(const SurfaceHit& hit, const Vec3& d) const {
 
 bool Scene::visible(const SurfaceHit& hit, const Vec3& wi, float distance) const {
   Ray r = spawnRay(hit, wi);
-  r.tmax = std::isinf(distance) ? INFINITY : distance * (1.0f - 1e-4f) - epsilon_;
-  if (r.tmax <= 0) return true;
+  if (std::isinf(distance)) return !occluded(r);
+  // Aim from the offset origin at the sampled light point itself (keeping the unoffset
+  // direction would cross the light's own plane before tmax at grazing angles), and stop one
+  // epsilon short of it so the light's surface does not occlude itself.
+  Vec3 target = hit.p + wi * distance;
+  Vec3 d = target - r.o;
+  float length = glm::length(d);
+  if (length <= 2 * epsilon_) return true;
+  r.d = d / length;
+  r.tmax = length - epsilon_;
   return !occluded(r);
 }
 
