@@ -34,6 +34,16 @@ void checkOutputPath(const std::string& path) {
   if (!dir.empty() && !fs::is_directory(dir)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
 }
 
+const char* kernelNameOf(Kernel k) {
+  switch (k) {
+    case Kernel::Uniform: return "uniform";
+    case Kernel::Cone: return "cone";
+    case Kernel::Epanechnikov: return "epanechnikov";
+    case Kernel::Silverman: return "silverman";
+  }
+  return "?";
+}
+
 std::string formatNumber(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.9g", v);
@@ -48,11 +58,23 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   resolveResolution(scene->camera(), options);
   RenderStats stats;
   ImageRGB image = render(*scene, *integrator, options, &stats);
+  for (auto& w : integrator->warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
   std::map<std::string, std::string> meta = {
       {"integrator", integratorName},       {"spp", std::to_string(stats.spp)},
       {"seed", std::to_string(options.seed)}, {"seconds", formatNumber(stats.seconds)},
       {"scene", scenePath},                  {"max_depth", std::to_string(integratorOptions.maxDepth)},
       {"width", std::to_string(options.width)}, {"height", std::to_string(options.height)}};
+  if (integratorName == "photon") {
+    const auto& d = integratorOptions.density;
+    meta["photons"] = std::to_string(integratorOptions.photons);
+    meta["caustic_photons"] = std::to_string(integratorOptions.causticPhotons);
+    meta["k"] = std::to_string(d.k);
+    meta["radius"] = formatNumber(d.radius);
+    meta["max_radius"] = formatNumber(d.maxRadius);
+    meta["kernel"] = kernelNameOf(d.kernel);
+    meta["final_gather"] = std::to_string(integratorOptions.finalGather);
+    if (!integratorOptions.aov.empty()) meta["aov"] = integratorOptions.aov;
+  }
   for (auto& o : outputs) writeImage(o, image, meta);
   if (stats.nonFiniteSamples)
     std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)stats.nonFiniteSamples);
@@ -111,7 +133,7 @@ int main(int argc, char** argv) {
   auto* render = app.add_subcommand("render", "Render a glTF scene to EXR (linear) and/or PNG (sRGB)");
   render->add_option("scene", scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
   render->add_option("-o,--output", outputs, "Output image(s): .exr or .png; repeat for both")->required();
-  render->add_option("--integrator", integratorName, "direct | whitted | path")->capture_default_str();
+  render->add_option("--integrator", integratorName, "direct | whitted | path | photon")->capture_default_str();
   render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
   render->add_option("--height", options.height, "Image height in pixels");
   auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
@@ -120,6 +142,21 @@ int main(int argc, char** argv) {
   render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
   render->add_option("--max-depth", integratorOptions.maxDepth, "Maximum number of bounces")->capture_default_str();
   render->add_flag("-q,--quiet", quiet, "No summary line");
+  std::string kernelName = "epanechnikov";
+  render->add_option("--photons", integratorOptions.photons, "Photon mapping: emitted paths for the global map")
+      ->capture_default_str();
+  render->add_option("--caustic-photons", integratorOptions.causticPhotons,
+                     "Photon mapping: emitted paths for the caustic map (0: caustics from the global map)")
+      ->capture_default_str();
+  render->add_option("--k", integratorOptions.density.k, "Photon mapping: k nearest photons per estimate")
+      ->capture_default_str();
+  render->add_option("--radius", integratorOptions.density.radius, "Photon mapping: fixed gather radius (m) instead of k-NN");
+  render->add_option("--max-radius", integratorOptions.density.maxRadius, "Photon mapping: cap on the k-NN radius (m)");
+  render->add_option("--kernel", kernelName, "uniform | cone | epanechnikov | silverman")->capture_default_str();
+  render->add_option("--final-gather", integratorOptions.finalGather,
+                     "Photon mapping: gather rays per diffuse hit; 0 = direct visualisation of the global map")
+      ->capture_default_str();
+  render->add_option("--aov", integratorOptions.aov, "Debug image instead of radiance: photons | radius");
 
   auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds");
   std::string infoScene;
@@ -153,6 +190,20 @@ int main(int argc, char** argv) {
       if (!(options.timeLimit >= 0) || !std::isfinite(options.timeLimit)) throw Error("--time: must be ≥ 0 seconds");
       if (options.threads < 0) throw Error("--threads: must be ≥ 0");
       if (integratorOptions.maxDepth < 0) throw Error("--max-depth: must be ≥ 0");
+      integratorOptions.density.kernel = parseKernel(kernelName);
+      if (integratorOptions.density.k < 1) throw Error("--k: must be at least 1");
+      if (!(integratorOptions.density.radius >= 0) || !std::isfinite(integratorOptions.density.radius))
+        throw Error("--radius: must be a positive length");
+      if (!(integratorOptions.density.maxRadius >= 0) || !std::isfinite(integratorOptions.density.maxRadius))
+        throw Error("--max-radius: must be a positive length");
+      if (integratorOptions.finalGather < 0) throw Error("--final-gather: must be ≥ 0");
+      if (!integratorOptions.aov.empty() && integratorOptions.aov != "photons" && integratorOptions.aov != "radius")
+        throw Error("--aov: must be photons or radius");
+      if (!integratorOptions.aov.empty() && integratorName != "photon")
+        throw Error("--aov: only with --integrator photon");
+      const uint64_t maxPaths = uint64_t(1) << 32;  // photon indices are 32-bit in the kd-tree
+      if (integratorOptions.photons >= maxPaths || integratorOptions.causticPhotons >= maxPaths)
+        throw Error("--photons/--caustic-photons: at most 4294967295");
       if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
       options.progress = !quiet;
       return cmdRender(scenePath, outputs, integratorName, options, integratorOptions, quiet);

@@ -2,6 +2,7 @@
 
 #include "integrators/direct.h"
 #include "integrators/path.h"
+#include "integrators/photon.h"
 #include "integrators/whitted.h"
 
 namespace pl {
@@ -10,10 +11,11 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Integr
   if (name == "direct") return std::make_unique<DirectIntegrator>();
   if (name == "whitted") return std::make_unique<WhittedIntegrator>(options.maxDepth);
   if (name == "path") return std::make_unique<PathIntegrator>(options.maxDepth);
-  throw Error("--integrator: unknown integrator '" + name + "'");
+  if (name == "photon") return std::make_unique<PhotonIntegrator>(options);
+  throw Error("--integrator: unknown integrator '" + name + "' (direct, whitted, path, photon)");
 }
 
-std::vector<std::string> integratorNames() { return {"direct", "whitted", "path"}; }
+std::vector<std::string> integratorNames() { return {"direct", "whitted", "path", "photon"}; }
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis) {
   const Distribution1D& dist = scene.lightDistribution();

@@ -6,19 +6,30 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "photon/kernels.h"
 #include "scene/scene.h"
 
 namespace pl {
 
 struct IntegratorOptions {
   int maxDepth = 64;  // maximum number of bounces (path segments after the camera ray)
+  // Photon mapping (--integrator photon).
+  uint64_t photons = 200000;         // emitted paths for the global map
+  uint64_t causticPhotons = 200000;  // emitted paths for the caustic map
+  DensityEstimation density;         // k / radius / max radius / kernel
+  int finalGather = 32;              // gather rays per first diffuse hit; 0 = direct visualisation
+  std::string aov;                   // "" (radiance), "photons" or "radius"
 };
 
 class Integrator {
  public:
   virtual ~Integrator() = default;
+  // Work done once before the first sample (photon tracing). Deterministic for a seed.
+  virtual void preprocess(const Scene& scene, uint64_t seed, int threads) {}
   virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
   virtual const char* name() const = 0;
+  // Things the user should know (e.g. "no photons were stored"), printed by the CLI.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);

@@ -41,7 +41,7 @@ class Progress {
 
 }  // namespace
 
-ImageRGB render(const Scene& scene, const Integrator& integrator, RenderOptions o, RenderStats* stats) {
+ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, RenderStats* stats) {
   resolveResolution(scene.camera(), o);
   const int W = o.width, H = o.height;
   const int threads = resolveThreads(o.threads);
@@ -50,6 +50,7 @@ ImageRGB render(const Scene& scene, const Integrator& integrator, RenderOptions 
   std::vector<uint64_t> nonFinite(size_t(H), 0);
   auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  integrator.preprocess(scene, o.seed, threads);
   Progress progress(o.progress);
 
   int taken = 0;

@@ -30,6 +30,7 @@ void resolveResolution(const Camera& camera, RenderOptions& options);
 
 // Pixel value = average radiance over the pixel's area (box filter): sample s of pixel (x, y)
 // uses the random stream keyed by (seed, pixel index, s), never by thread.
-ImageRGB render(const Scene& scene, const Integrator& integrator, RenderOptions options, RenderStats* stats);
+// Calls integrator.preprocess() first (its time is part of the render time).
+ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions options, RenderStats* stats);
 
 }  // namespace pl

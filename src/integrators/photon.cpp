@@ -1,0 +1,90 @@
+#include "integrators/photon.h"
+
+namespace pl {
+
+void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads) {
+  PhotonTracingOptions t;
+  t.globalPaths = o_.photons;
+  t.causticPaths = o_.causticPhotons;
+  t.seed = seed;
+  t.threads = threads;
+  t.maxDepth = o_.maxDepth;
+  maps_ = tracePhotons(scene, t);
+  if (average(scene.totalPower()) <= 0) warnings_.push_back("the lights emit no power: no photons were traced");
+  else if (maps_.global.size() == 0 && o_.photons > 0)
+    warnings_.push_back("no photon was stored (no diffuse or glossy surface is lit): indirect light is black");
+}
+
+// Caustics (L S+ D) at x: from the caustic map, or, without one, from the global map's photons
+// flagged as caustic.
+Spectrum PhotonIntegrator::causticRadiance(const SurfaceHit& hit, const Vec3& wo) const {
+  if (o_.causticPhotons > 0) return maps_.caustic.radiance(hit, wo, o_.density, Photon::kAcceptAll);
+  return maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptCaustic);
+}
+
+Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng) const {
+  Spectrum sum(0.0f);
+  Vec3 woLocal = hit.shading.toLocal(wo);
+  for (int i = 0; i < o_.finalGather; ++i) {
+    BSDFSample bs;
+    if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &bs))
+      continue;
+    Spectrum beta = bs.weight;
+    Ray ray = scene.spawnRay(hit, hit.shading.toWorld(bs.wi));
+    // Follow specular surfaces to the first diffuse or glossy one, and read the whole global
+    // map there. Emission found on the way is not added: it is direct light (shadow rays) or a
+    // caustic (caustic map) at x.
+    for (int depth = 0; depth < o_.maxDepth; ++depth) {
+      SurfaceHit y;
+      if (!scene.intersect(ray, &y)) break;
+      if (!y.bsdf->isDelta()) {
+        sum += beta * maps_.global.radiance(y, -ray.d, o_.density, Photon::kAcceptAll);
+        break;
+      }
+      BSDFSample s;
+      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), y.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
+                          TransportMode::Radiance, &s))
+        break;
+      beta *= s.weight;
+      ray = scene.spawnRay(y, y.shading.toWorld(s.wi));
+    }
+  }
+  return sum / float(o_.finalGather);
+}
+
+Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) const {
+  Spectrum L(0.0f), beta(1.0f);
+  Ray ray = cameraRay;
+  for (int depth = 0; depth <= o_.maxDepth; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) break;
+    Vec3 wo = -ray.d;
+    // Only the camera ray or a chain of specular bounces gets here: emission counts in full.
+    if (hit.light && o_.aov.empty()) L += beta * hit.light->L(wo);
+    Vec3 woLocal = hit.shading.toLocal(wo);
+    if (hit.bsdf->isDelta()) {
+      BSDFSample s;
+      if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
+                            TransportMode::Radiance, &s))
+        break;
+      beta *= s.weight;
+      ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+      continue;
+    }
+    if (!o_.aov.empty()) {  // debug images: what the global map's estimate used here
+      GatherStats stats;
+      maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect, &stats);
+      return Spectrum(o_.aov == "photons" ? float(stats.photons) : stats.radius);
+    }
+    L += beta * estimateDirect(scene, hit, woLocal, rng, false);
+    L += beta * causticRadiance(hit, wo);
+    if (o_.finalGather > 0)
+      L += beta * finalGather(scene, hit, wo, rng);
+    else
+      L += beta * maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect);
+    break;
+  }
+  return L;
+}
+
+}  // namespace pl

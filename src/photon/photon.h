@@ -1,0 +1,81 @@
+// A stored photon in 20 bytes: position (3 floats), flux as RGBE (Ward's shared exponent,
+// 8-bit mantissas, rounded to nearest so the encoding is unbiased), incident direction
+// octahedrally encoded in 2 × 15 bits, and the path type in the two spare bits.
+#pragma once
+#include <cstring>
+
+#include "core/common.h"
+
+namespace pl {
+
+struct Photon {
+  // The path that brought the photon here, in Heckbert's notation (2 bits of `type()`).
+  enum Type : uint8_t {
+    kIndirect = 0,  // at least one diffuse or glossy bounce before this hit
+    kDirect = 1,    // L D: first hit after leaving the light
+    kCaustic = 2,   // L S+ D: only specular bounces before this hit
+  };
+  // Masks of accepted types for gathers.
+  static constexpr uint8_t kAcceptAll = 0b111, kAcceptIndirect = 1 << kIndirect, kAcceptCaustic = 1 << kCaustic;
+
+  float position[3];
+  uint8_t rgbe[4];
+  uint16_t direction[2];  // bit 0 of each: flags
+
+  Photon() = default;
+  Photon(const Vec3& p, const Vec3& wi, const Spectrum& flux, Type type) {
+    position[0] = p.x, position[1] = p.y, position[2] = p.z;
+    setFlux(flux);
+    setDirection(wi, type);
+  }
+  Vec3 p() const { return Vec3(position[0], position[1], position[2]); }
+
+  // --- flux: RGBE ---
+  void setFlux(const Spectrum& f) {
+    float m = maxComponent(f);
+    if (!(m > 1e-38f)) {
+      std::memset(rgbe, 0, 4);
+      return;
+    }
+    int e;
+    std::frexp(m, &e);  // m = frac · 2^e, frac in [0.5, 1)
+    float scale = std::ldexp(1.0f, 8 - e);
+    if (std::lround(m * scale) > 255) scale *= 0.5f, ++e;  // rounding reached 256: next exponent
+    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255L, std::lround(std::max(0.0f, f[c]) * scale)));
+    rgbe[3] = uint8_t(std::clamp(e + 128, 0, 255));
+  }
+  Spectrum flux() const {
+    if (rgbe[3] == 0 && rgbe[0] == 0 && rgbe[1] == 0 && rgbe[2] == 0) return Spectrum(0.0f);
+    float scale = std::ldexp(1.0f, int(rgbe[3]) - 128 - 8);
+    return Spectrum(rgbe[0], rgbe[1], rgbe[2]) * scale;
+  }
+
+  // --- direction: octahedral map (Meyer et al. 2010), 15 bits per coordinate ---
+  void setDirection(const Vec3& w, uint8_t flags) {
+    float l1 = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
+    float u = w.x / l1, v = w.y / l1;
+    if (w.z < 0) {
+      float pu = u, pv = v;
+      u = (1 - std::abs(pv)) * (pu >= 0 ? 1.0f : -1.0f);
+      v = (1 - std::abs(pu)) * (pv >= 0 ? 1.0f : -1.0f);
+    }
+    auto quantise = [](float x) { return uint16_t(std::lround((std::clamp(x, -1.0f, 1.0f) * 0.5f + 0.5f) * 32767.0f)); };
+    direction[0] = uint16_t(quantise(u) << 1 | (flags & 1));
+    direction[1] = uint16_t(quantise(v) << 1 | ((flags >> 1) & 1));
+  }
+  Vec3 wi() const {
+    float u = (direction[0] >> 1) / 32767.0f * 2 - 1, v = (direction[1] >> 1) / 32767.0f * 2 - 1;
+    Vec3 w(u, v, 1 - std::abs(u) - std::abs(v));
+    if (w.z < 0) {
+      float pu = w.x, pv = w.y;
+      w.x = (1 - std::abs(pv)) * (pu >= 0 ? 1.0f : -1.0f);
+      w.y = (1 - std::abs(pu)) * (pv >= 0 ? 1.0f : -1.0f);
+    }
+    return glm::normalize(w);
+  }
+  Type type() const { return Type((direction[0] & 1) | ((direction[1] & 1) << 1)); }
+};
+
+static_assert(sizeof(Photon) == 20, "a photon record is 20 bytes");
+
+}  // namespace pl

@@ -1,0 +1,175 @@
+#include "photon/photon_map.h"
+
+#include <nanoflann.hpp>
+
+namespace pl {
+
+namespace {
+
+struct PhotonCloud {
+  const std::vector<Photon>* photons;
+  size_t kdtree_get_point_count() const { return photons->size(); }
+  float kdtree_get_pt(size_t i, size_t dim) const { return (*photons)[i].position[dim]; }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const { return false; }
+};
+
+// Accepts a photon when it arrived on the query's side and its path type is accepted.
+struct Filter {
+  const std::vector<Photon>& photons;
+  Vec3 n;
+  uint8_t accept;
+  bool operator()(uint32_t i) const {
+    const Photon& p = photons[i];
+    if (!((accept >> p.type()) & 1)) return false;
+    return (n.x == 0 && n.y == 0 && n.z == 0) || glm::dot(p.wi(), n) > 0;
+  }
+};
+
+// k nearest accepted photons within an initial radius: a sorted array of at most k entries.
+class FilteredKnn {
+ public:
+  FilteredKnn(int k, float maxDist2, const Filter& filter, std::vector<Neighbour>* out)
+      : k_(size_t(k)), worst_(maxDist2), filter_(filter), out_(out) {
+    out_->clear();
+  }
+  size_t size() const { return out_->size(); }
+  bool full() const { return out_->size() == k_; }
+  float worstDist() const { return worst_; }
+  bool addPoint(float d2, uint32_t index) {
+    if (d2 >= worst_ || !filter_(index)) return true;
+    auto& v = *out_;
+    if (v.size() == k_) v.pop_back();
+    auto it = std::upper_bound(v.begin(), v.end(), d2, [](float d, const Neighbour& nb) { return d < nb.d2; });
+    v.insert(it, Neighbour{index, d2});
+    if (v.size() == k_) worst_ = v.back().d2;
+    return true;
+  }
+
+ private:
+  size_t k_;
+  float worst_;
+  const Filter& filter_;
+  std::vector<Neighbour>* out_;
+};
+
+class FilteredRadius {
+ public:
+  FilteredRadius(float r2, const Filter& filter, std::vector<Neighbour>* out) : r2_(r2), filter_(filter), out_(out) {
+    out_->clear();
+  }
+  size_t size() const { return out_->size(); }
+  bool full() const { return true; }
+  float worstDist() const { return r2_; }
+  bool addPoint(float d2, uint32_t index) {
+    if (d2 < r2_ && filter_(index)) out_->push_back(Neighbour{index, d2});
+    return true;
+  }
+
+ private:
+  float r2_;
+  const Filter& filter_;
+  std::vector<Neighbour>* out_;
+};
+
+}  // namespace
+
+struct PhotonMap::Tree {
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PhotonCloud>, PhotonCloud, 3,
+                                                    uint32_t>;
+  std::vector<Photon> photons;
+  PhotonCloud cloud;
+  // Leaf size 24: NOTES measured 20–40 faster than 10 for k-NN gathers.
+  Index index;
+  explicit Tree(std::vector<Photon> p)
+      : photons(std::move(p)), cloud{&photons}, index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(24)) {}
+};
+
+static const std::vector<Photon> kNoPhotons;
+
+PhotonMap::PhotonMap() = default;
+PhotonMap::~PhotonMap() = default;
+PhotonMap::PhotonMap(PhotonMap&&) noexcept = default;
+PhotonMap& PhotonMap::operator=(PhotonMap&&) noexcept = default;
+
+void PhotonMap::build(std::vector<Photon> photons) {
+  tree_.reset();
+  if (!photons.empty()) tree_ = std::make_unique<Tree>(std::move(photons));  // the constructor builds it
+}
+
+size_t PhotonMap::size() const { return tree_ ? tree_->photons.size() : 0; }
+const std::vector<Photon>& PhotonMap::photons() const { return tree_ ? tree_->photons : kNoPhotons; }
+
+size_t PhotonMap::memoryBytes() const {
+  // Photons plus the tree's index permutation and nodes (about one node per leaf pair).
+  size_t n = size();
+  return n * sizeof(Photon) + n * sizeof(uint32_t) + (n / 12 + 1) * 64;
+}
+
+void PhotonMap::knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius,
+                    std::vector<Neighbour>* out) const {
+  out->clear();
+  if (!tree_ || k <= 0) return;
+  Filter filter{tree_->photons, n, accept};
+  FilteredKnn result(k, maxRadius > 0 ? maxRadius * maxRadius : INFINITY, filter, out);
+  float q[3] = {x.x, x.y, x.z};
+  tree_->index.findNeighbors(result, q, nanoflann::SearchParams());
+}
+
+void PhotonMap::withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius,
+                             std::vector<Neighbour>* out) const {
+  out->clear();
+  if (!tree_ || radius <= 0) return;
+  Filter filter{tree_->photons, n, accept};
+  FilteredRadius result(radius * radius, filter, out);
+  float q[3] = {x.x, x.y, x.z};
+  tree_->index.findNeighbors(result, q, nanoflann::SearchParams());
+}
+
+template <typename Weight>
+Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
+                             GatherStats* stats, Weight&& weight) const {
+  thread_local std::vector<Neighbour> neighbours;  // reused: no allocation per gather
+  float r2;
+  size_t used;
+  if (de.radius > 0) {
+    withinRadius(x, n, accept, de.radius, &neighbours);
+    r2 = de.radius * de.radius;
+    used = neighbours.size();
+  } else {
+    knn(x, n, accept, de.k, de.maxRadius, &neighbours);
+    used = neighbours.size();
+    if (used == size_t(de.k)) {
+      r2 = neighbours.back().d2;  // the k-th photon defines the disc
+      if (de.kernel == Kernel::Uniform) --used;  // ... and lies on its boundary: k − 1 inside
+    } else {
+      // Fewer than k: bounded by maxRadius, or the map has fewer than k accepted photons.
+      r2 = de.maxRadius > 0 ? de.maxRadius * de.maxRadius : (used ? neighbours.back().d2 : 0.0f);
+    }
+  }
+  Spectrum sum(0.0f);
+  for (size_t i = 0; i < used; ++i) {
+    const Photon& p = tree_->photons[neighbours[i].index];
+    sum += weight(p) * p.flux() * kernelWeight(de.kernel, neighbours[i].d2, r2);
+  }
+  if (stats) {
+    stats->photons = int(used);
+    stats->radius = std::sqrt(r2);
+  }
+  return sum;
+}
+
+Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const DensityEstimation& de, uint8_t accept,
+                             GatherStats* stats) const {
+  Vec3 n = glm::dot(hit.ng, woWorld) >= 0 ? hit.ng : -hit.ng;
+  Vec3 wo = hit.shading.toLocal(woWorld);
+  return estimate(hit.p, n, de, accept, stats,
+                  [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
+}
+
+Spectrum PhotonMap::irradiance(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
+                               GatherStats* stats) const {
+  return estimate(x, n, de, accept, stats, [](const Photon&) { return Spectrum(1.0f); });
+}
+
+}  // namespace pl

@@ -1,0 +1,66 @@
+// Photons in a nanoflann kd-tree, with the radiance estimate of Jensen's photon mapping:
+//   L(x, ωo) ≈ Σ_p f(ωo, ωp) Φp K(|x − xp|)
+// (no extra cosine: the photon's flux already carries it). Photons that arrived at the other
+// side of the surface are rejected inside the search, so they never shrink a k-NN radius.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "photon/kernels.h"
+#include "photon/photon.h"
+#include "scene/scene.h"
+
+namespace pl {
+
+struct Neighbour {
+  uint32_t index;
+  float d2;
+};
+
+struct GatherStats {
+  int photons = 0;   // photons that contributed
+  float radius = 0;  // gather radius used
+};
+
+class PhotonMap {
+ public:
+  PhotonMap();
+  ~PhotonMap();
+  PhotonMap(PhotonMap&&) noexcept;
+  PhotonMap& operator=(PhotonMap&&) noexcept;
+
+  // Takes the photons and builds the kd-tree (single-threaded, nanoflann).
+  void build(std::vector<Photon> photons);
+  size_t size() const;
+  const std::vector<Photon>& photons() const;
+  size_t memoryBytes() const;
+
+  // Neighbours of x whose incident direction lies on the side of `n` (dot(wi, n) > 0; pass a
+  // zero vector to accept every side) and whose path type is in `accept` (Photon::kAccept*).
+  // knn: the k nearest within maxRadius (0 = unbounded), sorted by distance.
+  void knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius,
+           std::vector<Neighbour>* out) const;
+  void withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius,
+                    std::vector<Neighbour>* out) const;
+
+  // Reflected radiance at a surface point towards woWorld, by the estimator configured in `de`.
+  // With k-NN and the uniform kernel, the k-th photon sits on the boundary of the disc it
+  // defines: it is dropped and the k − 1 others divided by πr_k² (the unbiased form for a
+  // Poisson process). The other kernels vanish on the boundary and need no correction.
+  Spectrum radiance(const SurfaceHit& hit, const Vec3& woWorld, const DensityEstimation& de, uint8_t accept,
+                    GatherStats* stats = nullptr) const;
+  // Irradiance E = Σ Φp K at x (the same estimator without the BSDF), for tests.
+  Spectrum irradiance(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
+                      GatherStats* stats = nullptr) const;
+
+ private:
+  template <typename Weight>
+  Spectrum estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
+                    GatherStats* stats, Weight&& weight) const;
+  // The tree owns the photons (nanoflann's adaptor points at them), on the heap so that a
+  // PhotonMap can be moved without invalidating that pointer.
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace pl

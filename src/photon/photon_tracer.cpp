@@ -1,0 +1,99 @@
+#include "photon/photon_tracer.h"
+
+#include <chrono>
+
+#include "core/parallel.h"
+
+namespace pl {
+
+namespace {
+
+constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
+
+// Traces one photon path, appending what it stores. In caustic mode the path ends at the first
+// non-specular hit and is stored only if it went through at least one specular bounce.
+void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
+               std::vector<Photon>* out) {
+  Rng rng(0);
+  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng);
+  Spectrum flux = e.flux;
+  if (isBlack(flux)) return;
+  Ray ray = e.ray;
+  ray.tmin = scene.epsilon();  // area-light photons start on the emitting triangle
+  bool onlySpecular = true;
+  for (int depth = 0; depth <= o.maxDepth; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) return;
+    Vec3 wo = -ray.d;
+    if (!hit.bsdf->isDelta()) {
+      Photon::Type type = depth == 0 ? Photon::kDirect : onlySpecular ? Photon::kCaustic : Photon::kIndirect;
+      if (causticMode) {
+        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, flux, type);
+        return;
+      }
+      out->emplace_back(hit.p, wo, flux, type);
+      onlySpecular = false;
+    }
+    BSDFSample bs;
+    Vec3 woLocal = hit.shading.toLocal(wo);
+    if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Importance, &bs))
+      return;
+    // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
+    // so the flux keeps its magnitude instead of shrinking bounce after bounce.
+    float q = std::min(1.0f, maxComponent(bs.weight));
+    if (q <= 0 || rng.uniform() >= q) return;
+    flux *= bs.weight / q;
+    Vec3 wi = hit.shading.toWorld(bs.wi);
+    ray = scene.spawnRay(hit, wi);
+  }
+}
+
+PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t count, bool causticMode) {
+  // Fixed chunks of paths, each into its own buffer, concatenated in chunk order: the map is
+  // the same whatever the thread count.
+  const uint64_t chunkSize = 4096;
+  size_t chunks = size_t((count + chunkSize - 1) / chunkSize);
+  std::vector<std::vector<Photon>> buffers(chunks);
+  parallelFor(chunks, resolveThreads(o.threads), [&](size_t c, int) {
+    uint64_t end = std::min(count, (c + 1) * chunkSize);
+    for (uint64_t i = c * chunkSize; i < end; ++i) tracePath(scene, o, i, count, causticMode, &buffers[c]);
+  });
+  size_t total = 0;
+  for (auto& b : buffers) total += b.size();
+  std::vector<Photon> photons;
+  photons.reserve(total);
+  for (auto& b : buffers) {
+    photons.insert(photons.end(), b.begin(), b.end());
+    std::vector<Photon>().swap(b);
+  }
+  PhotonMap map;
+  map.build(std::move(photons));
+  return map;
+}
+
+}  // namespace
+
+EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng) {
+  *rng = Rng::keyed(seed ^ (stream << 32), index, stream);  // photon i's stream: (seed, i, map)
+  const Distribution1D& lights = scene.lightDistribution();
+  if (lights.size() == 0 || lights.total() <= 0) return EmittedRay{Ray{}, Spectrum(0.0f)};
+  float pmf;
+  size_t l = lights.sample(rng->uniform(), &pmf);
+  Vec2 u1(rng->uniform(), rng->uniform()), u2(rng->uniform(), rng->uniform());
+  EmittedRay e = scene.lights()[l]->sampleLe(u1, u2);
+  e.flux /= pmf * float(count);
+  return e;
+}
+
+PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& o) {
+  auto start = std::chrono::steady_clock::now();
+  uint64_t rays0 = Scene::raysTraced();
+  PhotonMaps maps;
+  if (o.globalPaths) maps.global = traceMap(scene, o, o.globalPaths, false);
+  if (o.causticPaths) maps.caustic = traceMap(scene, o, o.causticPaths, true);
+  maps.rays = Scene::raysTraced() - rays0;
+  maps.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return maps;
+}
+
+}  // namespace pl
