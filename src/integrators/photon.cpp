@@ -3,6 +3,12 @@
 namespace pl {
 
 void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads) {
+  // Bound every gather: without a maximum radius a query where no photon can arrive (e.g. the
+  // gap between a light and the ceiling, seen from the gap) grows until it collects photons of
+  // other surfaces, which is both wrong and slow. Default: 5% of the scene's bounding radius.
+  DensityEstimation& de = o_.density;
+  if (de.radius <= 0 && de.maxRadius <= 0) de.maxRadius = 0.05f * scene.bounds().radius();
+  de.planeTolerance = 0.25f * (de.radius > 0 ? de.radius : de.maxRadius);
   PhotonTracingOptions t;
   t.globalPaths = o_.photons;
   t.causticPaths = o_.causticPhotons;

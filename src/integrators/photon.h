@@ -19,6 +19,7 @@ class PhotonIntegrator final : public Integrator {
   const char* name() const override { return "photon"; }
   std::vector<std::string> warnings() const override { return warnings_; }
   const PhotonMaps& maps() const { return maps_; }
+  const DensityEstimation& density() const { return o_.density; }  // resolved by preprocess()
 
  private:
   Spectrum causticRadiance(const SurfaceHit& hit, const Vec3& wo) const;

@@ -32,6 +32,10 @@ struct DensityEstimation {
   int k = 50;             // k nearest photons, when radius == 0
   float radius = 0.0f;    // > 0: fixed-radius estimate
   float maxRadius = 0.0f; // > 0: cap on the k-NN radius
+  // Photons farther than this from the query's tangent plane lie on another surface and are
+  // skipped (Jensen's disc instead of a sphere). 0 = off. The photon integrator sets it to
+  // a quarter of the (maximum) radius.
+  float planeTolerance = 0.0f;
 };
 
 inline Kernel parseKernel(const std::string& name) {

@@ -1,5 +1,5 @@
 // A stored photon in 20 bytes: position (3 floats), flux as RGBE (Ward's shared exponent,
-// 8-bit mantissas, rounded to nearest so the encoding is unbiased), incident direction
+// 8-bit mantissas, stochastically rounded so the encoding is unbiased), incident direction
 // octahedrally encoded in 2 × 15 bits, and the path type in the two spare bits.
 #pragma once
 #include <cstring>
@@ -23,25 +23,28 @@ struct Photon {
   uint16_t direction[2];  // bit 0 of each: flags
 
   Photon() = default;
-  Photon(const Vec3& p, const Vec3& wi, const Spectrum& flux, Type type) {
+  // `dither` in [0, 1) rounds the flux mantissas: a uniform random number makes the encoding
+  // unbiased even when every photon carries the same flux (one light, no colour); 0.5 rounds
+  // to nearest, which is biased in that case by up to 1/512.
+  Photon(const Vec3& p, const Vec3& wi, const Spectrum& flux, Type type, float dither = 0.5f) {
     position[0] = p.x, position[1] = p.y, position[2] = p.z;
-    setFlux(flux);
+    setFlux(flux, dither);
     setDirection(wi, type);
   }
   Vec3 p() const { return Vec3(position[0], position[1], position[2]); }
 
   // --- flux: RGBE ---
-  void setFlux(const Spectrum& f) {
+  void setFlux(const Spectrum& f, float dither) {
     float m = maxComponent(f);
     if (!(m > 1e-38f)) {
       std::memset(rgbe, 0, 4);
       return;
     }
     int e;
-    std::frexp(m, &e);  // m = frac · 2^e, frac in [0.5, 1)
+    std::frexp(m, &e);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
     float scale = std::ldexp(1.0f, 8 - e);
-    if (std::lround(m * scale) > 255) scale *= 0.5f, ++e;  // rounding reached 256: next exponent
-    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255L, std::lround(std::max(0.0f, f[c]) * scale)));
+    if (std::floor(m * scale + dither) > 255) scale *= 0.5f, ++e;  // rounded up to 256: next exponent
+    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255.0f, std::floor(std::max(0.0f, f[c]) * scale + dither)));
     rgbe[3] = uint8_t(std::clamp(e + 128, 0, 255));
   }
   Spectrum flux() const {

@@ -14,15 +14,19 @@ struct PhotonCloud {
   bool kdtree_get_bbox(BBox&) const { return false; }
 };
 
-// Accepts a photon when it arrived on the query's side and its path type is accepted.
+// Accepts a photon when its path type is accepted, it arrived on the query's side, and it lies
+// near the query's tangent plane (when a tolerance is given).
 struct Filter {
   const std::vector<Photon>& photons;
-  Vec3 n;
+  Vec3 x, n;
   uint8_t accept;
+  float planeTolerance;
   bool operator()(uint32_t i) const {
     const Photon& p = photons[i];
     if (!((accept >> p.type()) & 1)) return false;
-    return (n.x == 0 && n.y == 0 && n.z == 0) || glm::dot(p.wi(), n) > 0;
+    if (n.x == 0 && n.y == 0 && n.z == 0) return true;
+    if (planeTolerance > 0 && std::abs(glm::dot(p.p() - x, n)) > planeTolerance) return false;
+    return glm::dot(p.wi(), n) > 0;
   }
 };
 
@@ -107,20 +111,20 @@ size_t PhotonMap::memoryBytes() const {
 }
 
 void PhotonMap::knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius,
-                    std::vector<Neighbour>* out) const {
+                    std::vector<Neighbour>* out, float planeTolerance) const {
   out->clear();
   if (!tree_ || k <= 0) return;
-  Filter filter{tree_->photons, n, accept};
+  Filter filter{tree_->photons, x, n, accept, planeTolerance};
   FilteredKnn result(k, maxRadius > 0 ? maxRadius * maxRadius : INFINITY, filter, out);
   float q[3] = {x.x, x.y, x.z};
   tree_->index.findNeighbors(result, q, nanoflann::SearchParams());
 }
 
 void PhotonMap::withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius,
-                             std::vector<Neighbour>* out) const {
+                             std::vector<Neighbour>* out, float planeTolerance) const {
   out->clear();
   if (!tree_ || radius <= 0) return;
-  Filter filter{tree_->photons, n, accept};
+  Filter filter{tree_->photons, x, n, accept, planeTolerance};
   FilteredRadius result(radius * radius, filter, out);
   float q[3] = {x.x, x.y, x.z};
   tree_->index.findNeighbors(result, q, nanoflann::SearchParams());
@@ -133,11 +137,11 @@ Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimati
   float r2;
   size_t used;
   if (de.radius > 0) {
-    withinRadius(x, n, accept, de.radius, &neighbours);
+    withinRadius(x, n, accept, de.radius, &neighbours, de.planeTolerance);
     r2 = de.radius * de.radius;
     used = neighbours.size();
   } else {
-    knn(x, n, accept, de.k, de.maxRadius, &neighbours);
+    knn(x, n, accept, de.k, de.maxRadius, &neighbours, de.planeTolerance);
     used = neighbours.size();
     if (used == size_t(de.k)) {
       r2 = neighbours.back().d2;  // the k-th photon defines the disc

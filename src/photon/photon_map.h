@@ -38,10 +38,11 @@ class PhotonMap {
   // Neighbours of x whose incident direction lies on the side of `n` (dot(wi, n) > 0; pass a
   // zero vector to accept every side) and whose path type is in `accept` (Photon::kAccept*).
   // knn: the k nearest within maxRadius (0 = unbounded), sorted by distance.
-  void knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius,
-           std::vector<Neighbour>* out) const;
-  void withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius,
-                    std::vector<Neighbour>* out) const;
+  // planeTolerance > 0 (needs a non-zero n): skip photons farther than it from x's tangent plane.
+  void knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius, std::vector<Neighbour>* out,
+           float planeTolerance = 0.0f) const;
+  void withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius, std::vector<Neighbour>* out,
+                    float planeTolerance = 0.0f) const;
 
   // Reflected radiance at a surface point towards woWorld, by the estimator configured in `de`.
   // With k-NN and the uniform kernel, the k-th photon sits on the boundary of the disc it

@@ -28,10 +28,10 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     if (!hit.bsdf->isDelta()) {
       Photon::Type type = depth == 0 ? Photon::kDirect : onlySpecular ? Photon::kCaustic : Photon::kIndirect;
       if (causticMode) {
-        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, flux, type);
+        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, flux, type, rng.uniform());
         return;
       }
-      out->emplace_back(hit.p, wo, flux, type);
+      out->emplace_back(hit.p, wo, flux, type, rng.uniform());
       onlySpecular = false;
     }
     BSDFSample bs;

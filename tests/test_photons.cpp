@@ -1,0 +1,428 @@
+// Photon mapping: the photon record, the kd-tree against brute force, power conservation,
+// density estimation against closed forms, and the photon integrator against the path tracer.
+#include <catch2/catch.hpp>
+
+#include "bsdfs/lambertian.h"
+#include "bsdfs/mirror.h"
+#include "core/sampling.h"
+#include "integrators/photon.h"
+#include "lights/point_light.h"
+#include "lights/warn_spotlight.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "stats.h"
+
+using namespace pl;
+
+namespace {
+
+std::string scenePath(const char* name) { return std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + name; }
+
+uint32_t addQuad(Scene& scene, Vec3 a, Vec3 b, Vec3 c, Vec3 d, uint32_t material) {
+  scene.addMesh({a, b, c, d}, {}, {}, {0, 1, 2, 0, 2, 3}, material);
+  return material;
+}
+
+uint32_t lambertian(Scene& scene, float rho) {
+  return scene.addMaterial({"diffuse", std::make_unique<Lambertian>(ColorTexture(Spectrum(rho))), Spectrum(0), false});
+}
+
+Camera lookingDown(float height) {
+  Camera cam;
+  cam.position = Vec3(0, height, 0);
+  cam.forward = Vec3(0, -1, 0);
+  cam.up = Vec3(0, 0, -1);
+  cam.right = glm::cross(cam.forward, cam.up);
+  return cam;
+}
+
+// A closed sphere of radius R around the origin, tessellated finely, with a given albedo.
+void addSphere(Scene& scene, float R, uint32_t material) {
+  std::vector<Vec3> p;
+  std::vector<uint32_t> idx;
+  const int rings = 64, segments = 128;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j <= segments; ++j) {
+      float t = kPi * i / rings, f = 2 * kPi * j / segments;
+      p.push_back(R * Vec3(std::sin(t) * std::cos(f), std::cos(t), std::sin(t) * std::sin(f)));
+    }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      uint32_t a = i * (segments + 1) + j, b = a + segments + 1;
+      idx.insert(idx.end(), {a, a + 1, b, a + 1, b + 1, b});
+    }
+  scene.addMesh(p, {}, {}, idx, material);
+}
+
+double mean(const ImageRGB& img) {
+  double s = 0;
+  for (float v : img.data) s += v;
+  return s / img.data.size();
+}
+
+}  // namespace
+
+TEST_CASE("photon record: 20 bytes - RGBE flux unbiased to 1/256 - octahedral direction - path type") {
+  CHECK(sizeof(Photon) == 20);
+  Rng rng(1, 1);
+  double sumRel = 0, sumSame = 0;
+  const int N = 20000;
+  for (int i = 0; i < N; ++i) {
+    Spectrum f(rng.uniform(), rng.uniform(), rng.uniform());
+    f *= std::pow(10.0f, 12 * rng.uniform() - 9);  // 1e-9 .. 1e3 W
+    Vec3 w = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+    Photon::Type type = Photon::Type(i % 3);
+    Photon p(Vec3(1, 2, 3), w, f, type, rng.uniform());
+    Spectrum g = p.flux();
+    float m = maxComponent(f);
+    for (int c = 0; c < 3; ++c) REQUIRE(std::abs(g[c] - f[c]) <= m / 128.0f);
+    sumRel += (g.g - f.g) / m;
+    REQUIRE(glm::length(p.wi() - w) < 2e-4f);  // ~0.01°
+    REQUIRE(p.type() == type);
+    // Identical photons (one white light): dithering keeps the sum unbiased.
+    sumSame += Photon(Vec3(0), w, Spectrum(1e-4f), type, rng.uniform()).flux().g;
+  }
+  CHECK(std::abs(sumRel / N) < 2e-4);  // no systematic loss or gain of flux
+  CHECK(sumSame / N == Approx(1e-4).epsilon(2e-4));
+  // Round-to-nearest would be off by 0.14% for this value: 1e-4 = 209.7 × 2^-21.
+  CHECK(Photon(Vec3(0), Vec3(0, 0, 1), Spectrum(1e-4f), Photon::kDirect, 0.5f).flux().g == Approx(1.00144e-4).epsilon(1e-4));
+}
+
+TEST_CASE("kernels integrate to one over the disc and vanish outside it") {
+  for (Kernel k : {Kernel::Uniform, Kernel::Cone, Kernel::Epanechnikov, Kernel::Silverman}) {
+    const float r = 0.3f;
+    double sum = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {  // ∫ K 2πd dd, midpoint rule
+      float d = r * (i + 0.5f) / n;
+      sum += kernelWeight(k, d * d, r * r) * 2 * kPi * d * (r / n);
+    }
+    CHECK(sum == Approx(1.0).epsilon(1e-4));
+    CHECK(kernelWeight(k, 1.01f * r * r, r * r) == 0.0f);
+  }
+}
+
+TEST_CASE("kd-tree k-NN and radius queries agree with brute force - random and planar sets - with the side filter") {
+  Rng rng(2, 2);
+  for (bool planar : {false, true}) {
+    std::vector<Photon> photons;
+    for (int i = 0; i < 20000; ++i) {
+      Vec3 p(rng.uniform(), planar ? 0.0f : rng.uniform(), rng.uniform());
+      Vec3 w = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      photons.emplace_back(p, w, Spectrum(1.0f), Photon::Type(i % 3));
+    }
+    PhotonMap map;
+    map.build(photons);
+    const auto& stored = map.photons();
+    for (int q = 0; q < 200; ++q) {
+      Vec3 x(rng.uniform(), planar ? 0.0f : rng.uniform(), rng.uniform());
+      Vec3 n = q % 2 ? Vec3(0, 1, 0) : Vec3(0.0f);
+      uint8_t accept = q % 3 ? Photon::kAcceptAll : Photon::kAcceptIndirect;
+      std::vector<std::pair<float, uint32_t>> brute;
+      for (uint32_t i = 0; i < stored.size(); ++i) {
+        const Photon& p = stored[i];
+        if (!((accept >> p.type()) & 1)) continue;
+        if (glm::length(n) > 0 && glm::dot(p.wi(), n) <= 0) continue;
+        Vec3 d = p.p() - x;
+        brute.push_back({glm::dot(d, d), i});
+      }
+      std::sort(brute.begin(), brute.end());
+      std::vector<Neighbour> got;
+      map.knn(x, n, accept, 30, 0.0f, &got);
+      REQUIRE(got.size() == 30);
+      for (int i = 0; i < 30; ++i) REQUIRE(got[i].index == brute[i].second);
+      float r = 0.05f;
+      map.withinRadius(x, n, accept, r, &got);
+      size_t inside = std::count_if(brute.begin(), brute.end(), [&](auto& b) { return b.first < r * r; });
+      REQUIRE(got.size() == inside);
+      // k-NN capped by a maximum radius returns exactly those within it when fewer than k.
+      map.knn(x, n, accept, 100000, r, &got);
+      REQUIRE(got.size() == inside);
+    }
+  }
+}
+
+TEST_CASE("emitted photons' flux sums to the lights' total power") {
+  for (const char* name : {"cornell-box.gltf", "glass-caustic.gltf", "furnace.gltf"}) {
+    auto scene = loadGltf(scenePath(name));
+    const uint64_t N = 100000;
+    Spectrum sum(0.0f);
+    for (uint64_t i = 0; i < N; ++i) {
+      Rng rng(0);
+      sum += emitPhoton(*scene, 1, i, N, 0, &rng).flux;
+    }
+    INFO(name);
+    CHECK(sum.r == Approx(scene->totalPower().r).epsilon(0.01));
+    CHECK(sum.b == Approx(scene->totalPower().b).epsilon(0.01));
+  }
+}
+
+TEST_CASE("stored photons: a black sphere around a light absorbs exactly Φ - spread as I(ω) prescribes") {
+  // Albedo 0: every photon is stored once, where it first lands (the sphere is centred on the
+  // light). Stored flux sums to Φ, and directions from the light follow I(ω).
+  for (int kind = 0; kind < 2; ++kind) {
+    Scene scene;
+    addSphere(scene, 2.0f, lambertian(scene, 0.0f));
+    Vec3 axis(0, -1, 0);
+    if (kind == 0) scene.addLight(std::make_unique<PointLight>(Vec3(0), PointLight::intensityForPower(Spectrum(10.0f))));
+    else scene.addLight(std::make_unique<WarnSpotlight>(Vec3(0), axis, WarnSpotlight::cForPower(Spectrum(10.0f), 5), 5.0f));
+    scene.setCamera(Camera{});
+    scene.commit();
+    PhotonTracingOptions o;
+    o.globalPaths = 100000;
+    o.causticPaths = 0;
+    PhotonMaps maps = tracePhotons(scene, o);
+    REQUIRE(maps.global.size() == o.globalPaths);
+    double flux = 0;
+    std::vector<double> hist(20, 0), expected(20, 0);
+    for (const Photon& p : maps.global.photons()) {
+      flux += p.flux().g;
+      float c = glm::dot(glm::normalize(p.p()), axis);
+      hist[std::min(19, int((c + 1) / 2 * 20))] += 1;
+    }
+    CHECK(flux == Approx(10.0).epsilon(1e-3));
+    for (int b = 0; b < 20; ++b) {  // fraction of Φ with cosθ in the bin
+      double lo = -1 + b / 10.0, hi = lo + 0.1;
+      expected[b] = o.globalPaths * (kind == 0 ? 0.05 : (hi > 0 ? std::pow(hi, 6) - std::pow(std::max(lo, 0.0), 6) : 0.0));
+    }
+    INFO((kind ? "warn" : "point"));
+    CHECK(test::chiSquarePValue(hist, expected) > 1e-3);
+  }
+}
+
+TEST_CASE("density estimation reproduces E = Φ cosθ / (4πr²) from a point light over a plane") {
+  const float h = 1.0f, Phi = 50.0f;
+  Scene scene;
+  float s = 30.0f;
+  addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(scene, 0.0f));  // absorbs: direct only
+  scene.addLight(std::make_unique<PointLight>(Vec3(0, h, 0), PointLight::intensityForPower(Spectrum(Phi))));
+  scene.setCamera(lookingDown(2));
+  scene.commit();
+  PhotonTracingOptions o;
+  o.globalPaths = 2000000;
+  o.causticPaths = 0;
+  PhotonMaps maps = tracePhotons(scene, o);
+  for (Kernel kernel : {Kernel::Uniform, Kernel::Cone, Kernel::Epanechnikov, Kernel::Silverman}) {
+    DensityEstimation de;
+    de.kernel = kernel;
+    de.k = 400;
+    for (Vec3 x : {Vec3(0, 0, 0), Vec3(0.5f, 0, 0.2f), Vec3(-1.0f, 0, 0.6f)}) {
+      float r2 = h * h + x.x * x.x + x.z * x.z, cosTheta = h / std::sqrt(r2);
+      double E = Phi * cosTheta / (4 * kPi * r2);
+      INFO("kernel " << int(kernel) << " x=" << x.x);
+      // 400 photons: ~5% relative noise at one point; the kernels' smoothing bias is < 1% here.
+      CHECK(maps.global.irradiance(x, Vec3(0, 1, 0), de, Photon::kAcceptAll).g == Approx(E).epsilon(0.15));
+    }
+    // Averaged over many points the noise goes and what remains is the bias.
+    double ratio = 0;
+    const int n = 200;
+    Rng rng(4, 4);
+    for (int i = 0; i < n; ++i) {
+      Vec3 x(rng.uniform() - 0.5f, 0, rng.uniform() - 0.5f);
+      float r2 = h * h + x.x * x.x + x.z * x.z;
+      ratio += maps.global.irradiance(x, Vec3(0, 1, 0), de, Photon::kAcceptAll).g / (Phi * h / std::sqrt(r2) / (4 * kPi * r2));
+    }
+    CHECK(ratio / n == Approx(1.0).epsilon(0.015));
+  }
+}
+
+TEST_CASE("k-NN with the uniform kernel: k − 1 photons over πr_k² is unbiased - k over πr_k² is not") {
+  // Uniform random photons of density D on a plane: the classic k/(πr²) over-estimates by
+  // k/(k − 1) (the k-th photon sits on the boundary); photonlab's estimator does not.
+  Rng rng(5, 5);
+  const int N = 200000;
+  std::vector<Photon> photons;
+  for (int i = 0; i < N; ++i)
+    photons.emplace_back(Vec3(rng.uniform(), 0, rng.uniform()), Vec3(0, 1, 0), Spectrum(1.0f), Photon::kDirect);
+  PhotonMap map;
+  map.build(photons);
+  DensityEstimation de;
+  de.kernel = Kernel::Uniform;
+  de.k = 8;
+  double ours = 0, classic = 0;
+  const int queries = 4000;
+  for (int q = 0; q < queries; ++q) {
+    Vec3 x(0.1f + 0.8f * rng.uniform(), 0, 0.1f + 0.8f * rng.uniform());
+    GatherStats st;
+    ours += map.irradiance(x, Vec3(0, 1, 0), de, Photon::kAcceptAll, &st).g;
+    classic += de.k / (kPi * st.radius * st.radius);
+  }
+  CHECK(ours / queries == Approx(N).epsilon(0.02));
+  CHECK(classic / queries > 1.1 * N);  // 8/7 = 1.14
+}
+
+TEST_CASE("photons arriving at the back side are neither counted nor shrink the radius") {
+  std::vector<Photon> photons;
+  Rng rng(6, 6);
+  for (int i = 0; i < 1000; ++i)  // all arrive from above (wi.y > 0) at y = 0
+    photons.emplace_back(Vec3(rng.uniform() - 0.5f, 0, rng.uniform() - 0.5f), glm::normalize(Vec3(0.1f, 1, 0)),
+                         Spectrum(1.0f), Photon::kIndirect);
+  PhotonMap map;
+  map.build(photons);
+  DensityEstimation de;
+  GatherStats below, above;
+  CHECK(isBlack(map.irradiance(Vec3(0), Vec3(0, -1, 0), de, Photon::kAcceptAll, &below)));
+  CHECK(below.photons == 0);
+  CHECK(average(map.irradiance(Vec3(0), Vec3(0, 1, 0), de, Photon::kAcceptAll, &above)) > 0);
+  CHECK(above.photons == de.k);
+}
+
+TEST_CASE("mirror caustic: the floor under a point light receives E = I/h² + R·I/(2H − h)²") {
+  // Floor at y = 0, point light at h, a horizontal mirror of reflectance R at H facing down.
+  // Direct photons give I/h²; the caustic map (L S D) gives the mirror-image light at height
+  // 2H − h. A path tracer cannot sample the second term: nothing can hit a point light.
+  const float h = 0.5f, H = 1.0f, I = 4.0f, R = 0.8f, s = 20.0f;
+  Scene scene;
+  addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(scene, 0.5f));
+  uint32_t mirror = scene.addMaterial({"mirror", std::make_unique<Mirror>(ColorTexture(Spectrum(R))), Spectrum(0), false});
+  addQuad(scene, {-s, H, -s}, {s, H, -s}, {s, H, s}, {-s, H, s}, mirror);
+  scene.addLight(std::make_unique<PointLight>(Vec3(0, h, 0), Spectrum(I)));
+  scene.setCamera(lookingDown(0.9f));
+  scene.commit();
+  PhotonTracingOptions o;
+  o.globalPaths = 1000000;
+  o.causticPaths = 1000000;
+  PhotonMaps maps = tracePhotons(scene, o);
+  DensityEstimation de;
+  de.k = 1000;
+  Vec3 x(0), up(0, 1, 0);
+  double direct = maps.global.irradiance(x, up, de, 1 << Photon::kDirect).g;
+  double caustic = maps.caustic.irradiance(x, up, de, Photon::kAcceptAll).g;
+  CHECK(direct == Approx(I / (h * h)).epsilon(0.06));
+  CHECK(caustic == Approx(R * I / ((2 * H - h) * (2 * H - h))).epsilon(0.06));
+  // The global map's caustic photons estimate the same term from their own emission.
+  CHECK(maps.global.irradiance(x, up, de, Photon::kAcceptCaustic).g == Approx(caustic).epsilon(0.1));
+}
+
+TEST_CASE("photon mapping in the closed furnace: L = Le / (1 − ρ) with and without final gathering") {
+  auto scene = loadGltf(scenePath("furnace.gltf"));
+  for (int fg : {0, 8}) {
+    IntegratorOptions io;
+    io.photons = 400000;
+    io.causticPhotons = 0;
+    io.finalGather = fg;
+    io.density.k = 100;
+    PhotonIntegrator pm(io);
+    RenderOptions ro;
+    ro.width = ro.height = 12;
+    ro.spp = 8;
+    INFO("final gather " << fg);
+    CHECK(mean(render(*scene, pm, ro, nullptr)) == Approx(2.0).epsilon(0.02));
+  }
+}
+
+TEST_CASE("Cornell box: photon mapping with final gathering agrees with the path tracer region by region") {
+  auto scene = loadGltf(scenePath("cornell-box.gltf"));
+  RenderOptions ro;
+  ro.width = ro.height = 32;
+  ro.spp = 2048;
+  auto path = makeIntegrator("path", {});
+  ImageRGB reference = render(*scene, *path, ro, nullptr);
+  IntegratorOptions io;
+  io.photons = 500000;
+  io.finalGather = 64;
+  PhotonIntegrator pm(io);
+  ro.spp = 8;
+  ImageRGB img = render(*scene, pm, ro, nullptr);
+  // Pixels that see the light (Le = 17) are the same emission in both images, but at 8 spp
+  // their partial coverage is noise that would swamp the comparison: leave them out.
+  auto seesLight = [&](int x, int y) {
+    for (float dx : {0.0f, 1.0f})
+      for (float dy : {0.0f, 1.0f}) {
+        SurfaceHit hit;
+        if (scene->intersect(scene->camera().generateRay(x + dx, y + dy, 32, 32), &hit) && hit.light) return true;
+      }
+    return false;
+  };
+  // 4×4 regions of 8×8 pixels; each region's mean within the tolerance of the reference.
+  double all = 0, allRef = 0;
+  for (int by = 0; by < 4; ++by)
+    for (int bx = 0; bx < 4; ++bx) {
+      double a = 0, b = 0;
+      for (int y = 8 * by; y < 8 * by + 8; ++y)
+        for (int x = 8 * bx; x < 8 * bx + 8; ++x) {
+          if (seesLight(x, y)) continue;
+          a += average(img.at(x, y));
+          b += average(reference.at(x, y));
+        }
+      all += a, allRef += b;
+      INFO("region " << bx << "," << by);
+      CHECK(a / b == Approx(1.0).epsilon(0.05));
+    }
+  CHECK(all / allRef == Approx(1.0).epsilon(0.02));
+}
+
+TEST_CASE("photon mapping: no diffuse surface or no power renders zeros with a warning - never hangs") {
+  // Only a mirror box around a point light: photons bounce until Russian roulette or max depth.
+  Scene scene;
+  uint32_t mirror = scene.addMaterial({"mirror", std::make_unique<Mirror>(ColorTexture(Spectrum(1.0f))), Spectrum(0), false});
+  addSphere(scene, 2.0f, mirror);
+  scene.addLight(std::make_unique<PointLight>(Vec3(0), Spectrum(1.0f)));
+  scene.setCamera(Camera{});
+  scene.commit();
+  IntegratorOptions io;
+  io.photons = 20000;
+  io.causticPhotons = 20000;
+  PhotonIntegrator pm(io);
+  RenderOptions ro;
+  ro.width = ro.height = 8;
+  ro.spp = 1;
+  CHECK(mean(render(scene, pm, ro, nullptr)) == 0.0);
+  CHECK(pm.warnings().size() == 1);
+  // A light of zero power.
+  Scene dark;
+  addQuad(dark, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, lambertian(dark, 0.5f));
+  dark.addLight(std::make_unique<PointLight>(Vec3(0, 1, 0), Spectrum(0.0f)));
+  dark.setCamera(lookingDown(2));
+  dark.commit();
+  PhotonIntegrator pm2(io);
+  CHECK(mean(render(dark, pm2, ro, nullptr)) == 0.0);
+  CHECK(pm2.warnings().size() == 1);
+}
+
+TEST_CASE("photon mapping is bit-identical whatever the thread count") {
+  auto scene = loadGltf(scenePath("cornell-spheres.gltf"));
+  IntegratorOptions io;
+  io.photons = 50000;
+  io.causticPhotons = 50000;
+  io.finalGather = 4;
+  RenderOptions ro;
+  ro.width = ro.height = 16;
+  ro.spp = 2;
+  std::vector<float> images[2];
+  for (int t : {1, 2}) {
+    PhotonIntegrator pm(io);
+    ro.threads = t;
+    images[t - 1] = render(*scene, pm, ro, nullptr).data;
+  }
+  CHECK(images[0] == images[1]);
+}
+
+TEST_CASE("debug images: photon count and gather radius") {
+  auto scene = loadGltf(scenePath("cornell-box.gltf"));
+  IntegratorOptions io;
+  io.photons = 100000;
+  io.density.k = 20;
+  io.aov = "photons";
+  RenderOptions ro;
+  ro.width = ro.height = 8;
+  ro.spp = 1;
+  PhotonIntegrator count(io);
+  ImageRGB c = render(*scene, count, ro, nullptr);
+  // Epanechnikov: all k photons weigh in, fewer only where the maximum radius cuts the
+  // search short. Corner pixels see past the box: no estimate.
+  int full = 0;
+  for (float v : c.data) {
+    REQUIRE((v >= 0.0f && v <= 20.0f && v == std::floor(v)));
+    full += v == 20.0f;
+  }
+  CHECK(c.at(4, 4).g == 20.0f);
+  CHECK(full > 32);
+  io.aov = "radius";
+  PhotonIntegrator radius(io);
+  ImageRGB r = render(*scene, radius, ro, nullptr);
+  float maxRadius = 0.05f * scene->bounds().radius();  // the default cap
+  for (float v : r.data) REQUIRE((v >= 0.0f && v <= maxRadius * 1.0001f));
+  CHECK(r.at(4, 4).g > 0.0f);
+  CHECK(r.at(4, 4).g < maxRadius);
+}
