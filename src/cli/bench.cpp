@@ -6,6 +6,7 @@
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "photon/photon_tracer.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 
@@ -79,6 +80,62 @@ auto bestOf3(Measure measure) {
 
 bool operator>(const PathRate& a, const PathRate& b) { return a.samplesPerSecond > b.samplesPerSecond; }
 
+struct GatherRate {
+  double pixelOrder, randomOrder;
+};
+
+// k = 50 radiance estimates at the first hits of a 512² image's camera rays, in scanline order
+// and in a random permutation of the same points.
+GatherRate gatherRate(const Scene& scene, const PhotonMap& map, int threads) {
+  struct Query {
+    SurfaceHit hit;
+    Vec3 wo;
+  };
+  std::vector<Query> queries;
+  const int W = 512;
+  for (int y = 0; y < W; ++y)
+    for (int x = 0; x < W; ++x) {
+      Ray r = scene.camera().generateRay(x + 0.5f, y + 0.5f, W, W);
+      Query q;
+      if (scene.intersect(r, &q.hit)) q.wo = -r.d, queries.push_back(q);
+    }
+  DensityEstimation de;
+  de.k = 50;
+  de.maxRadius = 0.05f * scene.bounds().radius();
+  de.planeTolerance = 0.25f * de.maxRadius;
+  auto run = [&](const std::vector<Query>& qs) {
+    std::vector<float> sink(size_t(threads), 0.0f);
+    auto t0 = std::chrono::steady_clock::now();
+    const size_t chunk = 1024;
+    parallelFor((qs.size() + chunk - 1) / chunk, threads, [&](size_t c, int t) {
+      for (size_t i = c * chunk; i < std::min(qs.size(), (c + 1) * chunk); ++i)
+        sink[t] += map.radiance(qs[i].hit, qs[i].wo, de, Photon::kAcceptAll).g;
+    });
+    return qs.size() / seconds(t0);
+  };
+  GatherRate rate;
+  rate.pixelOrder = run(queries);
+  Rng rng(3, 3);
+  for (size_t i = queries.size() - 1; i > 0; --i) std::swap(queries[i], queries[rng.nextU32() % (i + 1)]);
+  rate.randomOrder = run(queries);
+  return rate;
+}
+
+struct TraceRate {
+  double raysPerSecond, photonsPerSecond;
+};
+
+TraceRate photonTraceRate(const Scene& scene, int threads, uint64_t paths) {
+  PhotonTracingOptions o;
+  o.globalPaths = paths;
+  o.causticPaths = 0;
+  o.threads = threads;
+  PhotonMaps maps = tracePhotons(scene, o);
+  return {maps.rays / maps.traceSeconds, maps.global.size() / maps.traceSeconds};
+}
+
+bool operator>(const TraceRate& a, const TraceRate& b) { return a.raysPerSecond > b.raysPerSecond; }
+
 }  // namespace
 
 int runBench(const std::string& scenePath, int threads, int spp) {
@@ -96,6 +153,35 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", p1.samplesPerSecond / 1e3, pN.samplesPerSecond / 1e3);
   std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", p1.raysPerSecond / 1e6, pN.raysPerSecond / 1e6);
   std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * p1.raysPerSecond / e1, 100 * pN.raysPerSecond / eN);
+
+  // Photon mapping.
+  TraceRate t1 = bestOf3([&] { return photonTraceRate(*scene, 1, 500000); });
+  TraceRate tN = bestOf3([&] { return photonTraceRate(*scene, all, 500000); });
+  std::printf("| photon tracing (M rays/s) | %.2f | %.2f |\n", t1.raysPerSecond / 1e6, tN.raysPerSecond / 1e6);
+  std::printf("| photon tracing (M stored photons/s) | %.2f | %.2f |\n", t1.photonsPerSecond / 1e6, tN.photonsPerSecond / 1e6);
+  std::printf("| photon tracing / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * t1.raysPerSecond / e1, 100 * tN.raysPerSecond / eN);
+
+  // A map of about 10 million photons: build time and gathers.
+  PhotonTracingOptions o;
+  o.globalPaths = uint64_t(10e6 / 1.8);  // ~1.8 photons stored per emitted path in the Cornell box
+  o.causticPaths = 0;
+  o.threads = all;
+  PhotonMaps maps = tracePhotons(*scene, o);
+  std::vector<Photon> photons = maps.global.photons();
+  double build = bestOf3([&] {
+    std::vector<Photon> copy = photons;
+    auto t0 = std::chrono::steady_clock::now();
+    PhotonMap m;
+    m.build(std::move(copy));
+    return -seconds(t0);  // best = shortest
+  });
+  build = -build;
+  std::printf("| kd-tree build, %.1f M photons (s) | %.2f | (single-threaded) |\n", photons.size() / 1e6, build);
+  std::printf("| kd-tree build per million photons (s) | %.3f | |\n", build / (photons.size() / 1e6));
+  GatherRate g1 = gatherRate(*scene, maps.global, 1), gN = gatherRate(*scene, maps.global, all);
+  std::printf("| k=50 gathers, pixel order (k/s) | %.1f | %.1f |\n", g1.pixelOrder / 1e3, gN.pixelOrder / 1e3);
+  std::printf("| k=50 gathers, random order (k/s) | %.1f | %.1f |\n", g1.randomOrder / 1e3, gN.randomOrder / 1e3);
+  std::printf("| memory per photon, map + tree (bytes) | %.1f | |\n", double(maps.global.memoryBytes()) / maps.global.size());
   return 0;
 }
 

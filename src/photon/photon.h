@@ -34,23 +34,34 @@ struct Photon {
   Vec3 p() const { return Vec3(position[0], position[1], position[2]); }
 
   // --- flux: RGBE ---
+  // Exponents are read from and written to the float bits directly: this runs once per stored
+  // photon, and frexp/ldexp/lround were 15% of photon tracing's instructions.
   void setFlux(const Spectrum& f, float dither) {
     float m = maxComponent(f);
-    if (!(m > 1e-38f)) {
+    if (!(m > 1e-30f && m < 1e30f)) {  // zero, negative, NaN or absurd: store nothing
       std::memset(rgbe, 0, 4);
       return;
     }
-    int e;
-    std::frexp(m, &e);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
-    float scale = std::ldexp(1.0f, 8 - e);
-    if (std::floor(m * scale + dither) > 255) scale *= 0.5f, ++e;  // rounded up to 256: next exponent
-    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255.0f, std::floor(std::max(0.0f, f[c]) * scale + dither)));
-    rgbe[3] = uint8_t(std::clamp(e + 128, 0, 255));
+    int e = exponentOf(m);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
+    float scale = powerOfTwo(8 - e);
+    if (int(m * scale + dither) > 255) scale *= 0.5f, ++e;  // rounded up to 256: next exponent
+    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255, int(std::max(0.0f, f[c]) * scale + dither)));
+    rgbe[3] = uint8_t(e + 128);
   }
   Spectrum flux() const {
-    if (rgbe[3] == 0 && rgbe[0] == 0 && rgbe[1] == 0 && rgbe[2] == 0) return Spectrum(0.0f);
-    float scale = std::ldexp(1.0f, int(rgbe[3]) - 128 - 8);
-    return Spectrum(rgbe[0], rgbe[1], rgbe[2]) * scale;
+    if (rgbe[3] == 0) return Spectrum(0.0f);
+    return Spectrum(rgbe[0], rgbe[1], rgbe[2]) * powerOfTwo(int(rgbe[3]) - 128 - 8);
+  }
+  static int exponentOf(float x) {  // frexp's exponent for a normal positive float
+    uint32_t bits;
+    std::memcpy(&bits, &x, 4);
+    return int((bits >> 23) & 255) - 126;
+  }
+  static float powerOfTwo(int e) {  // 2^e for −126 ≤ e ≤ 127
+    uint32_t bits = uint32_t(std::clamp(e + 127, 1, 254)) << 23;
+    float x;
+    std::memcpy(&x, &bits, 4);
+    return x;
   }
 
   // --- direction: octahedral map (Meyer et al. 2010), 15 bits per coordinate ---
@@ -62,7 +73,7 @@ struct Photon {
       u = (1 - std::abs(pv)) * (pu >= 0 ? 1.0f : -1.0f);
       v = (1 - std::abs(pu)) * (pv >= 0 ? 1.0f : -1.0f);
     }
-    auto quantise = [](float x) { return uint16_t(std::lround((std::clamp(x, -1.0f, 1.0f) * 0.5f + 0.5f) * 32767.0f)); };
+    auto quantise = [](float x) { return uint16_t(int((std::clamp(x, -1.0f, 1.0f) * 0.5f + 0.5f) * 32767.0f + 0.5f)); };
     direction[0] = uint16_t(quantise(u) << 1 | (flags & 1));
     direction[1] = uint16_t(quantise(v) << 1 | ((flags >> 1) & 1));
   }

@@ -96,9 +96,57 @@ PhotonMap::~PhotonMap() = default;
 PhotonMap::PhotonMap(PhotonMap&&) noexcept = default;
 PhotonMap& PhotonMap::operator=(PhotonMap&&) noexcept = default;
 
+namespace {
+
+// 21 bits per axis interleaved into a 63-bit Morton (Z-order) code.
+uint64_t spreadBits(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+// Photons reordered along a Z-order curve: the kd-tree build and every gather then read memory
+// mostly sequentially instead of jumping across the whole map (LSD radix sort, 11-bit digits).
+void sortByMortonCode(std::vector<Photon>& photons) {
+  Bounds b;
+  for (const Photon& p : photons) b.extend(p.p());
+  Vec3 scale = 2097151.0f / glm::max(b.hi - b.lo, Vec3(1e-20f));
+  size_t n = photons.size();
+  std::vector<uint64_t> keys(n), keys2(n);
+  std::vector<uint32_t> order(n), order2(n);
+  for (size_t i = 0; i < n; ++i) {
+    Vec3 q = (photons[i].p() - b.lo) * scale;
+    keys[i] = spreadBits(uint64_t(q.x)) | spreadBits(uint64_t(q.y)) << 1 | spreadBits(uint64_t(q.z)) << 2;
+    order[i] = uint32_t(i);
+  }
+  for (int shift = 0; shift < 63; shift += 11) {
+    std::vector<size_t> count(2049, 0);
+    for (uint64_t k : keys) ++count[((k >> shift) & 2047) + 1];
+    for (size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
+    for (size_t i = 0; i < n; ++i) {
+      size_t dst = count[(keys[i] >> shift) & 2047]++;
+      keys2[dst] = keys[i];
+      order2[dst] = order[i];
+    }
+    keys.swap(keys2);
+    order.swap(order2);
+  }
+  std::vector<Photon> sorted(n);
+  for (size_t i = 0; i < n; ++i) sorted[i] = photons[order[i]];
+  photons.swap(sorted);
+}
+
+}  // namespace
+
 void PhotonMap::build(std::vector<Photon> photons) {
   tree_.reset();
-  if (!photons.empty()) tree_ = std::make_unique<Tree>(std::move(photons));  // the constructor builds it
+  if (photons.empty()) return;
+  sortByMortonCode(photons);
+  tree_ = std::make_unique<Tree>(std::move(photons));  // the constructor builds the tree
 }
 
 size_t PhotonMap::size() const { return tree_ ? tree_->photons.size() : 0; }

@@ -22,7 +22,7 @@ struct PhotonMaps {
   // emission.
   PhotonMap global, caustic;
   uint64_t rays = 0;  // rays traced, for benchmarks
-  double seconds = 0;
+  double traceSeconds = 0, buildSeconds = 0;
 };
 
 // Emits photon path `index` of `count` (for tests and the tracer): E[flux] = total power / count.
