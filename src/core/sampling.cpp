@@ -19,9 +19,11 @@ Vec2 sampleConcentricDisc(const Vec2& u) {
 }
 
 Vec3 sampleCosineHemisphere(const Vec2& u) {
-  Vec2 d = sampleConcentricDisc(u);
-  float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
-  return Vec3(d.x, d.y, z);
+  // Malley's method with the polar map r = √u₁, φ = 2πu₂: branch-free. (The concentric map
+  // only helps stratified samples; with independent ones its data-dependent branch cost
+  // measurable time in photon tracing.)
+  float r = std::sqrt(u.x), phi = 2 * kPi * u.y;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u.x)));
 }
 
 Vec3 sampleUniformSphere(const Vec2& u) {

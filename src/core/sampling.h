@@ -6,7 +6,7 @@
 
 namespace pl {
 
-// Cosine-weighted hemisphere around +z (Malley's method); pdf = cosθ/π (solid angle).
+// Cosine-weighted hemisphere around +z (Malley's method, polar map); pdf = cosθ/π (solid angle).
 Vec3 sampleCosineHemisphere(const Vec2& u);
 inline float pdfCosineHemisphere(const Vec3& v) { return v.z > 0 ? v.z * kInvPi : 0.0f; }
 
