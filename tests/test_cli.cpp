@@ -74,6 +74,15 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   expectCleanFailure("render " + scene + " -o " + out + " --no-such-flag", out, "no-such-flag");
   expectCleanFailure("render " + scene + " -o " + dir + "/never.jpg", dir + "/never.jpg", ".exr or .png");
   expectCleanFailure("render " + scene + " -o " + dir + "/no/such/dir/x.exr", dir + "/no/such/dir/x.exr", "does not exist");
+  std::string photon = "render " + scene + " -o " + out + " --integrator photon ";
+  expectCleanFailure(photon + "--kernel gauss", out, "--kernel");
+  expectCleanFailure(photon + "--photons -5", out, "--photons");
+  expectCleanFailure(photon + "--k 0", out, "--k");
+  expectCleanFailure(photon + "--radius -1", out, "--radius");
+  expectCleanFailure(photon + "--max-radius nan", out, "--max-radius");
+  expectCleanFailure(photon + "--final-gather -1", out, "--final-gather");
+  expectCleanFailure(photon + "--aov depth", out, "--aov");
+  expectCleanFailure("render " + scene + " -o " + out + " --aov photons", out, "--aov");
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));

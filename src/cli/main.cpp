@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
         throw Error("--aov: only with --integrator photon");
       const uint64_t maxPaths = uint64_t(1) << 32;  // photon indices are 32-bit in the kd-tree
       if (integratorOptions.photons >= maxPaths || integratorOptions.causticPhotons >= maxPaths)
-        throw Error("--photons/--caustic-photons: at most 4294967295");
+        throw Error("--photons/--caustic-photons: must be a count from 0 to 4294967295");
       if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
       options.progress = !quiet;
       return cmdRender(scenePath, outputs, integratorName, options, integratorOptions, quiet);
