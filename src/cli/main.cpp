@@ -8,6 +8,7 @@
 
 #include "io/image_io.h"
 #include "io/metrics.h"
+#include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 
@@ -84,6 +85,51 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   return 0;
 }
 
+// ppm, sppm, pppm: passes instead of samples, optional checkpoints along the way.
+int cmdRenderProgressive(const std::string& scenePath, const std::vector<std::string>& outputs, const std::string& name,
+                         RenderOptions options, ProgressiveOptions progressive, bool checkpoints, bool quiet) {
+  for (auto& o : outputs) checkOutputPath(o);
+  auto integrator = makeProgressiveIntegrator(name);
+  auto scene = loadScene(scenePath);
+  resolveResolution(scene->camera(), options);
+  if (progressive.radius <= 0) progressive.radius = defaultRadius(*scene, options.width, options.height);
+  if (!quiet) std::fprintf(stderr, "%s: initial radius %g m, alpha %g\n", name.c_str(), progressive.radius, progressive.alpha);
+  auto metadata = [&](const PassInfo& info) {
+    return std::map<std::string, std::string>{
+        {"integrator", name},
+        {"passes", std::to_string(info.passes)},
+        {"photons", std::to_string(info.photons)},
+        {"photons_per_pass", std::to_string(progressive.photonsPerPass)},
+        {"seconds", formatNumber(info.seconds)},
+        {"radius", formatNumber(info.meanRadius)},
+        {"initial_radius", formatNumber(progressive.radius)},
+        {"alpha", formatNumber(progressive.alpha)},
+        {"seed", std::to_string(options.seed)},
+        {"scene", scenePath},
+        {"width", std::to_string(options.width)},
+        {"height", std::to_string(options.height)}};
+  };
+  CheckpointFn checkpoint;
+  if (checkpoints) {
+    checkpoint = [&](const ImageRGB& image, const PassInfo& info) {
+      for (auto& o : outputs) {
+        fs::path p(o);
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, ".pass-%04d", info.passes);
+        writeImage((p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string(), image, metadata(info));
+      }
+    };
+  }
+  PassInfo info;
+  ImageRGB image = integrator->render(*scene, options, progressive, checkpoint, &info);
+  for (auto& o : outputs) writeImage(o, image, metadata(info));
+  if (!quiet)
+    std::fprintf(stderr, "%s: %dx%d, %d passes, %llu photon paths, %.2f s, mean radius %g m -> %s\n", name.c_str(),
+                 options.width, options.height, info.passes, (unsigned long long)info.photons, info.seconds,
+                 info.meanRadius, outputs.front().c_str());
+  return 0;
+}
+
 int cmdInfo(const std::string& scenePath) {
   auto scene = loadScene(scenePath);
   const Bounds& b = scene->bounds();
@@ -133,7 +179,8 @@ int main(int argc, char** argv) {
   auto* render = app.add_subcommand("render", "Render a glTF scene to EXR (linear) and/or PNG (sRGB)");
   render->add_option("scene", scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
   render->add_option("-o,--output", outputs, "Output image(s): .exr or .png; repeat for both")->required();
-  render->add_option("--integrator", integratorName, "direct | whitted | path | photon")->capture_default_str();
+  render->add_option("--integrator", integratorName, "direct | whitted | path | photon | ppm | sppm | pppm")
+      ->capture_default_str();
   render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
   render->add_option("--height", options.height, "Image height in pixels");
   auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
@@ -157,6 +204,15 @@ int main(int argc, char** argv) {
                      "Photon mapping: gather rays per diffuse hit; 0 = direct visualisation of the global map")
       ->capture_default_str();
   render->add_option("--aov", integratorOptions.aov, "Debug image instead of radiance: photons | radius");
+  ProgressiveOptions progressive;
+  bool checkpoints = false;
+  render->add_option("--passes", progressive.passes, "ppm/sppm/pppm: number of passes")->capture_default_str();
+  render->add_option("--photons-per-pass", progressive.photonsPerPass, "ppm/sppm/pppm: photon paths emitted per pass")
+      ->capture_default_str();
+  render->add_option("--alpha", progressive.alpha, "ppm/sppm/pppm: fraction of new photons kept (radius reduction)")
+      ->capture_default_str();
+  render->add_flag("--checkpoints", checkpoints,
+                   "ppm/sppm/pppm: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
 
   auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds");
   std::string infoScene;
@@ -199,6 +255,11 @@ int main(int argc, char** argv) {
       if (integratorOptions.finalGather < 0) throw Error("--final-gather: must be ≥ 0");
       if (!integratorOptions.aov.empty() && integratorOptions.aov != "photons" && integratorOptions.aov != "radius")
         throw Error("--aov: must be photons or radius");
+      if (!(progressive.alpha > 0 && progressive.alpha <= 1)) throw Error("--alpha: must be in (0, 1]");
+      if (progressive.passes < 1) throw Error("--passes: must be at least 1");
+      if (progressive.photonsPerPass < 1 || progressive.photonsPerPass >= (uint64_t(1) << 32))
+        throw Error("--photons-per-pass: must be a count from 1 to 4294967295");
+      if (checkpoints && !isProgressive(integratorName)) throw Error("--checkpoints: only with ppm, sppm or pppm");
       if (!integratorOptions.aov.empty() && integratorName != "photon")
         throw Error("--aov: only with --integrator photon");
       const uint64_t maxPaths = uint64_t(1) << 32;  // photon indices are 32-bit in the kd-tree
@@ -206,6 +267,13 @@ int main(int argc, char** argv) {
         throw Error("--photons/--caustic-photons: must be a count from 0 to 4294967295");
       if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
       options.progress = !quiet;
+      if (isProgressive(integratorName)) {
+        progressive.radius = integratorOptions.density.radius;
+        progressive.timeLimit = options.timeLimit;
+        progressive.maxDepth = integratorOptions.maxDepth;
+        if (options.timeLimit > 0 && render->get_option("--passes")->count() == 0) progressive.passes = INT32_MAX;
+        return cmdRenderProgressive(scenePath, outputs, integratorName, options, progressive, checkpoints, quiet);
+      }
       return cmdRender(scenePath, outputs, integratorName, options, integratorOptions, quiet);
     }
     if (*info) return cmdInfo(infoScene);

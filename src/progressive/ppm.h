@@ -1,0 +1,19 @@
+#pragma once
+#include "progressive/progressive.h"
+
+namespace pl {
+
+// Progressive photon mapping (Hachisuka, Ogaki, Jensen 2008). One eye pass stores a hit point
+// per pixel (the first diffuse or glossy point, through mirrors and glass); then every photon
+// pass adds the photons inside each hit point's radius and shrinks it:
+//   N' = N + αM,  R'² = R² (N + αM)/(N + M),  τ' = (τ + Φ_M) R'²/R²,
+// and the pixel converges to Le + τ / (π R² N_emitted). All light at the hit point, direct
+// included, comes from photons. The hit points never move: no antialiasing.
+class PPMIntegrator final : public ProgressiveIntegrator {
+ public:
+  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
+                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  const char* name() const override { return "ppm"; }
+};
+
+}  // namespace pl

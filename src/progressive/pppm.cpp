@@ -1,0 +1,52 @@
+#include "progressive/pppm.h"
+
+#include "core/parallel.h"
+
+namespace pl {
+
+ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
+                                const CheckpointFn& checkpoint, PassInfo* info) {
+  RenderOptions ro = io;
+  resolveResolution(scene.camera(), ro);
+  const int W = ro.width, H = ro.height, threads = resolveThreads(ro.threads);
+  const size_t pixels = size_t(W) * H;
+  const float r0 = o.radius > 0 ? o.radius : defaultRadius(scene, W, H);
+  double r2 = double(r0) * r0;  // radius of the pass about to run
+  double lastRadius = r0;
+  std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
+  int passesDone = 0;
+
+  auto pass = [&](int p) {
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
+    DensityEstimation de;
+    de.kernel = Kernel::Uniform;
+    de.radius = float(std::sqrt(r2));
+    de.planeTolerance = 0.25f * de.radius;
+    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: shadow rays
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      for (int x = 0; x < W; ++x) {
+        size_t i = y * W + x;
+        Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
+        Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
+        VisiblePoint vp;
+        Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
+        if (vp.valid) {
+          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
+          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);
+        }
+        sum[i] += glm::dvec3(L);
+      }
+    });
+    lastRadius = de.radius;
+    r2 = pppmNextRadius2(r2, p, o.alpha);
+    passesDone = p;
+  };
+  auto image = [&] {
+    ImageRGB img(W, H);
+    for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passesDone)));
+    return img;
+  };
+  return runPasses(o, checkpoint, info, pass, image, [&] { return lastRadius; });
+}
+
+}  // namespace pl

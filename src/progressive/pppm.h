@@ -1,0 +1,18 @@
+#pragma once
+#include "progressive/progressive.h"
+
+namespace pl {
+
+// Probabilistic progressive photon mapping (Knaus & Zwicker 2011). Pass i is an ordinary,
+// independent photon-mapping image (shadow rays for direct light, the pass's photon map read
+// at the first diffuse point with a fixed radius r_i and the uniform kernel); the radius
+// shrinks globally, r²_{i+1} = r²_i (i + α)/(i + 1), and the passes are averaged. Memory stays
+// constant, and passes rendered elsewhere can be merged by averaging (weighted by pass count).
+class PPPMIntegrator final : public ProgressiveIntegrator {
+ public:
+  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
+                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  const char* name() const override { return "pppm"; }
+};
+
+}  // namespace pl

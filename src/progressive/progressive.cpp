@@ -1,0 +1,61 @@
+#include "progressive/progressive.h"
+
+#include "progressive/ppm.h"
+#include "progressive/pppm.h"
+#include "progressive/sppm.h"
+
+namespace pl {
+
+std::unique_ptr<ProgressiveIntegrator> makeProgressiveIntegrator(const std::string& name) {
+  if (name == "ppm") return std::make_unique<PPMIntegrator>();
+  if (name == "sppm") return std::make_unique<SPPMIntegrator>();
+  if (name == "pppm") return std::make_unique<PPPMIntegrator>();
+  throw Error("--integrator: unknown progressive integrator '" + name + "'");
+}
+
+bool isProgressive(const std::string& name) { return name == "ppm" || name == "sppm" || name == "pppm"; }
+
+Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp) {
+  vp->valid = false;
+  Spectrum L(0.0f), beta(1.0f);
+  for (int depth = 0; depth <= maxDepth; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) break;
+    Vec3 wo = -ray.d;
+    if (hit.light) L += beta * hit.light->L(wo);
+    if (!hit.bsdf->isDelta()) {
+      vp->hit = hit;
+      vp->wo = wo;
+      vp->beta = beta;
+      vp->valid = true;
+      break;
+    }
+    BSDFSample s;
+    if (!hit.bsdf->sample(hit.shading.toLocal(wo), hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
+                          TransportMode::Radiance, &s))
+      break;
+    beta *= s.weight;
+    if (isBlack(beta)) break;
+    ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+  }
+  return L;
+}
+
+float defaultRadius(const Scene& scene, int width, int height) {
+  const Camera& c = scene.camera();
+  float distance = std::max(glm::length(scene.bounds().center() - c.position), 1e-3f);
+  float footprint = 2.0f * distance * std::tan(0.5f * c.yfov) / float(height);
+  return 5.0f * footprint;
+}
+
+PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth) {
+  PhotonTracingOptions o;
+  o.globalPaths = photons;
+  o.causticPaths = 0;
+  o.seed = mix64(seed * 0x9e3779b97f4a7c15ULL + uint64_t(pass));
+  o.threads = threads;
+  o.maxDepth = maxDepth;
+  return tracePhotons(scene, o);
+}
+
+}  // namespace pl

@@ -1,0 +1,110 @@
+// The progressive photon-mapping family: integrators that converge as passes of photons
+// accumulate. They own the loop over passes (an eye pass and a photon pass alternate), so they
+// sit beside the per-sample Integrator interface rather than behind it.
+#pragma once
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "integrators/integrator.h"
+#include "photon/photon_tracer.h"
+#include "render/renderer.h"
+
+namespace pl {
+
+struct ProgressiveOptions {
+  int passes = 64;
+  uint64_t photonsPerPass = 100000;  // emitted photon paths per pass
+  double alpha = 2.0 / 3.0;          // fraction of new photons kept; 2/3 minimises the MSE
+  float radius = 0.0f;               // initial radius; 0 = defaultRadius()
+  double timeLimit = 0.0;            // stop at the first pass boundary after this (seconds)
+  int maxDepth = 64;
+};
+
+struct PassInfo {
+  int passes = 0;             // passes completed
+  uint64_t photons = 0;       // photon paths emitted so far
+  double seconds = 0.0;
+  double meanRadius = 0.0;    // mean gather radius (per pixel for PPM/SPPM, global for PPPM)
+};
+
+// Called with the current estimate after passes 1, 2, 4, 8, ... (and after the last pass).
+using CheckpointFn = std::function<void(const ImageRGB&, const PassInfo&)>;
+
+class ProgressiveIntegrator {
+ public:
+  virtual ~ProgressiveIntegrator() = default;
+  virtual ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
+                          const CheckpointFn& checkpoint, PassInfo* info) = 0;
+  virtual const char* name() const = 0;
+};
+
+std::unique_ptr<ProgressiveIntegrator> makeProgressiveIntegrator(const std::string& name);
+bool isProgressive(const std::string& name);
+
+// ---- shared pieces ----
+
+// Per-pixel (or per-hit-point) statistics of PPM (Hachisuka, Ogaki, Jensen 2008), in double.
+struct ProgressiveStats {
+  double N = 0.0;    // accumulated photon count
+  double R2 = 0.0;   // squared radius
+  glm::dvec3 tau{0.0};  // accumulated (unnormalised) flux
+
+  // M photons found inside the radius, carrying unnormalised flux Φ_M:
+  //   N' = N + αM,  R'² = R² (N + αM)/(N + M),  τ' = (τ + Φ_M) R'²/R².
+  // Photons from the back side are never counted in M, so they never shrink the radius.
+  void update(double M, const glm::dvec3& phiM, double alpha) {
+    if (M <= 0) return;
+    double ratio = (N + alpha * M) / (N + M);
+    N += alpha * M;
+    R2 *= ratio;
+    tau = (tau + phiM) * ratio;
+  }
+  // Radiance estimate after `emitted` photon paths in total: L = τ / (π R² N_emitted).
+  glm::dvec3 radiance(double emitted) const { return R2 > 0 && emitted > 0 ? tau / (kPi * R2 * emitted) : glm::dvec3(0.0); }
+};
+
+// PPPM's global radius schedule (Knaus & Zwicker 2011): r²_{i+1} = r²_i (i + α)/(i + 1), i ≥ 1.
+inline double pppmNextRadius2(double r2, int i, double alpha) { return r2 * (i + alpha) / (i + 1); }
+
+// The first non-specular point along a camera ray, following mirrors and glass by sampling.
+struct VisiblePoint {
+  SurfaceHit hit;
+  Vec3 wo;
+  Spectrum beta{0.0f};  // throughput from the camera to the point
+  bool valid = false;
+};
+// Returns the emission picked up on the way (light seen directly or through specular surfaces).
+Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp);
+
+// Default initial radius: 5 pixels' footprint at the distance of the scene's centre.
+float defaultRadius(const Scene& scene, int width, int height);
+
+// Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass).
+PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth);
+
+inline bool isCheckpoint(int pass) { return pass > 0 && (pass & (pass - 1)) == 0; }  // 1, 2, 4, 8, ...
+
+// The loop all three share: runs pass(1), pass(2), ... until o.passes or the time limit (checked
+// at pass boundaries), and hands image() to the checkpoint after passes 1, 2, 4, ... and the last.
+template <typename PassFn, typename ImageFn, typename RadiusFn>
+ImageRGB runPasses(const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info, PassFn&& pass,
+                   ImageFn&& image, RadiusFn&& meanRadius) {
+  auto start = std::chrono::steady_clock::now();
+  PassInfo pi;
+  for (int p = 1; p <= o.passes; ++p) {
+    pass(p);
+    pi.passes = p;
+    pi.photons = uint64_t(p) * o.photonsPerPass;
+    pi.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pi.meanRadius = meanRadius();
+    bool last = p == o.passes || (o.timeLimit > 0 && pi.seconds >= o.timeLimit);
+    if (checkpoint && (isCheckpoint(p) || last)) checkpoint(image(), pi);
+    if (last) break;
+  }
+  if (info) *info = pi;
+  return image();
+}
+
+}  // namespace pl

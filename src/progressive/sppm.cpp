@@ -1,0 +1,74 @@
+#include "progressive/sppm.h"
+
+#include "core/parallel.h"
+
+namespace pl {
+
+ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
+                                const CheckpointFn& checkpoint, PassInfo* info) {
+  RenderOptions ro = io;
+  resolveResolution(scene.camera(), ro);
+  const int W = ro.width, H = ro.height, threads = resolveThreads(ro.threads);
+  const float r0 = o.radius > 0 ? o.radius : defaultRadius(scene, W, H);
+  const size_t pixels = size_t(W) * H;
+
+  std::vector<VisiblePoint> visible(pixels);
+  std::vector<glm::dvec3> directSum(pixels, glm::dvec3(0.0));  // Σ over passes of Le + L_direct
+  std::vector<ProgressiveStats> stats(pixels);
+  for (auto& s : stats) s.R2 = double(r0) * r0;
+  int passesDone = 0;
+
+  auto pass = [&](int p) {
+    // 1. Eye pass: a new visible point per pixel, and its direct light.
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      for (int x = 0; x < W; ++x) {
+        size_t i = y * W + x;
+        Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
+        Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
+        VisiblePoint& vp = visible[i];
+        Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
+        if (vp.valid) L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
+        directSum[i] += glm::dvec3(L);
+      }
+    });
+    // 2. Photon pass, 3. gather at the visible points.
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
+    const double unnormalise = double(o.photonsPerPass);
+    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: shadow rays
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      thread_local std::vector<Neighbour> found;
+      for (int x = 0; x < W; ++x) {
+        size_t i = y * W + x;
+        const VisiblePoint& vp = visible[i];
+        if (!vp.valid) continue;
+        float R = float(std::sqrt(stats[i].R2));
+        Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
+        maps.global.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R);
+        Vec3 wo = vp.hit.shading.toLocal(vp.wo);
+        glm::dvec3 phi(0.0);
+        for (const Neighbour& nb : found) {
+          const Photon& ph = maps.global.photons()[nb.index];
+          Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
+          phi += glm::dvec3(vp.beta * f * ph.flux()) * unnormalise;
+        }
+        stats[i].update(double(found.size()), phi, o.alpha);
+      }
+    });
+    passesDone = p;
+  };
+  auto image = [&] {
+    ImageRGB img(W, H);
+    double emittedPaths = double(passesDone) * o.photonsPerPass;
+    for (size_t i = 0; i < pixels; ++i)
+      img.set(int(i % W), int(i / W), Spectrum(directSum[i] / double(passesDone) + stats[i].radiance(emittedPaths)));
+    return img;
+  };
+  auto meanRadius = [&] {
+    double sum = 0;
+    for (auto& s : stats) sum += std::sqrt(s.R2);
+    return sum / pixels;
+  };
+  return runPasses(o, checkpoint, info, pass, image, meanRadius);
+}
+
+}  // namespace pl

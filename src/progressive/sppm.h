@@ -1,0 +1,19 @@
+#pragma once
+#include "progressive/progressive.h"
+
+namespace pl {
+
+// Stochastic progressive photon mapping (Hachisuka & Jensen 2009), arranged as in pbrt-v3.
+// Every pass re-traces each pixel's camera ray with fresh jitter to a new visible point, so
+// antialiasing, glossy reflection and motion through glass converge too; the statistics
+// (N, R, τ) belong to the pixel and are updated with the PPM rules. Direct light is computed
+// at the visible point by a shadow ray each pass (averaged), so photon passes deposit only
+// photons that bounced at least once (caustic and indirect).
+class SPPMIntegrator final : public ProgressiveIntegrator {
+ public:
+  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
+                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  const char* name() const override { return "sppm"; }
+};
+
+}  // namespace pl
