@@ -1,0 +1,81 @@
+// Small scenes with closed-form answers, built in code.
+#pragma once
+#include <functional>
+
+#include "bsdfs/lambertian.h"
+#include "bsdfs/mirror.h"
+#include "lights/point_light.h"
+#include "render/image.h"
+#include "scene/scene.h"
+
+namespace pl::test {
+
+inline void addQuad(Scene& scene, Vec3 a, Vec3 b, Vec3 c, Vec3 d, uint32_t material) {
+  scene.addMesh({a, b, c, d}, {}, {}, {0, 1, 2, 0, 2, 3}, material);
+}
+
+inline uint32_t lambertian(Scene& scene, float rho) {
+  return scene.addMaterial({"diffuse", std::make_unique<Lambertian>(ColorTexture(Spectrum(rho))), Spectrum(0), false});
+}
+
+inline Camera lookingDown(float height, float yfov = 0.8f) {
+  Camera cam;
+  cam.position = Vec3(0, height, 0);
+  cam.forward = Vec3(0, -1, 0);
+  cam.up = Vec3(0, 0, -1);
+  cam.right = glm::cross(cam.forward, cam.up);
+  cam.yfov = yfov;
+  return cam;
+}
+
+// The floor (y = 0) point seen through each pixel, closed form averaged over the pixel
+// (box filter) on a 6×6 grid.
+inline ImageRGB expectedFloorImage(const Scene& scene, int W, int H, const std::function<double(const Vec3&)>& L) {
+  ImageRGB img(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      double sum = 0;
+      for (int a = 0; a < 6; ++a)
+        for (int b = 0; b < 6; ++b) {
+          Ray r = scene.camera().generateRay(x + (a + 0.5f) / 6, y + (b + 0.5f) / 6, W, H);
+          sum += L(r.o + (-r.o.y / r.d.y) * r.d);
+        }
+      img.set(x, y, Spectrum(float(sum / 36)));
+    }
+  return img;
+}
+
+// The mirror-caustic scene: diffuse floor (albedo rho) at y = 0, isotropic point light of
+// intensity I at height h, a horizontal mirror of reflectance R at height H facing down,
+// camera between light and mirror looking down. The floor receives
+//   E = I cosθ/r² + R·I cosθ'/r'²   (the second from the mirror image of the light at 2H − h),
+// plus light that bounced between floor and mirror, a fraction ~ρR of E (0.08% at ρ = 0.001).
+struct MirrorCaustic {
+  float rho = 0.001f, h = 0.5f, H = 1.0f, I = 4.0f, R = 0.8f;
+  std::unique_ptr<Scene> build(float cameraFov = 0.3f) const {
+    auto scene = std::make_unique<Scene>();
+    float s = 20.0f;
+    addQuad(*scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(*scene, rho));
+    uint32_t mirror = scene->addMaterial({"mirror", std::make_unique<Mirror>(ColorTexture(Spectrum(R))), Spectrum(0), false});
+    addQuad(*scene, {-s, H, -s}, {s, H, -s}, {s, H, s}, {-s, H, s}, mirror);
+    scene->addLight(std::make_unique<PointLight>(Vec3(0, h, 0), Spectrum(I)));
+    scene->setCamera(lookingDown(0.9f * H, cameraFov));
+    scene->commit();
+    return scene;
+  }
+  double radiance(const Vec3& x, bool withCaustic = true) const {
+    auto term = [&](float height, float scale) {
+      double r2 = double(height) * height + x.x * x.x + x.z * x.z;
+      return scale * I * (height / std::sqrt(r2)) / r2;
+    };
+    return rho / kPi * (term(h, 1.0f) + (withCaustic ? term(2 * H - h, R) : 0.0));
+  }
+};
+
+inline double meanOf(const ImageRGB& img) {
+  double s = 0;
+  for (float v : img.data) s += v;
+  return s / img.data.size();
+}
+
+}  // namespace pl::test

@@ -1,0 +1,210 @@
+// Progressive photon mapping: the papers' update rules step by step, convergence of PPM, SPPM
+// and PPPM to closed forms, and the convergence rate measured as a log–log slope.
+#include <catch2/catch.hpp>
+
+#include "progressive/progressive.h"
+#include "scene/gltf_loader.h"
+#include "scene_helpers.h"
+
+using namespace pl;
+using namespace pl::test;
+
+namespace {
+
+const char* kAll[] = {"ppm", "sppm", "pppm"};
+
+ImageRGB renderProgressive(const std::string& name, const Scene& scene, int W, int passes, uint64_t photons,
+                           float radius, uint64_t seed = 1, int threads = 0, const CheckpointFn& cp = {}) {
+  auto integrator = makeProgressiveIntegrator(name);
+  RenderOptions ro;
+  ro.width = ro.height = W;
+  ro.seed = seed;
+  ro.threads = threads;
+  ProgressiveOptions o;
+  o.passes = passes;
+  o.photonsPerPass = photons;
+  o.radius = radius;
+  return integrator->render(scene, ro, o, cp, nullptr);
+}
+
+// Least-squares slope of log y against log x.
+double logLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = double(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+double relativeMSE(const ImageRGB& img, const ImageRGB& ref) {
+  double se = 0;
+  for (size_t i = 0; i < img.data.size(); ++i) {
+    double d = img.data[i] - ref.data[i];
+    se += d * d / (double(ref.data[i]) * ref.data[i]);
+  }
+  return se / img.data.size();
+}
+
+}  // namespace
+
+TEST_CASE("PPM statistics update: N' = N + αM - R'² = R²(N + αM)/(N + M) - τ' = (τ + Φ)R'²/R²") {
+  ProgressiveStats s;
+  s.R2 = 1.0;
+  const double a = 2.0 / 3.0;
+  s.update(10, glm::dvec3(5.0), a);  // N = 0 + 20/3; ratio = (20/3)/10 = 2/3
+  CHECK(s.N == Approx(20.0 / 3));
+  CHECK(s.R2 == Approx(2.0 / 3));
+  CHECK(s.tau.x == Approx(5.0 * 2 / 3));
+  s.update(20, glm::dvec3(4.0), a);  // ratio = (20/3 + 40/3)/(20/3 + 20) = 20/(80/3) = 3/4
+  CHECK(s.N == Approx(20.0));
+  CHECK(s.R2 == Approx(0.5));
+  CHECK(s.tau.y == Approx((10.0 / 3 + 4.0) * 0.75));
+  ProgressiveStats before = s;
+  s.update(0, glm::dvec3(100.0), a);  // no photon (or only back-side ones): nothing changes
+  CHECK(s.N == before.N);
+  CHECK(s.R2 == before.R2);
+  CHECK(s.tau.z == before.tau.z);
+  // L = τ / (π R² N_emitted)
+  CHECK(s.radiance(1000).x == Approx(s.tau.x / (kPi * 0.5 * 1000)));
+  // α = 1 keeps every photon: the radius never shrinks.
+  ProgressiveStats keep;
+  keep.R2 = 2.0;
+  keep.update(7, glm::dvec3(1.0), 1.0);
+  CHECK(keep.R2 == 2.0);
+}
+
+TEST_CASE("PPPM radius schedule: r²_{i+1} = r²_i (i + α)/(i + 1) - so r²_i ∝ i^(α−1)") {
+  const double a = 2.0 / 3.0;
+  double r2 = 1.0;
+  r2 = pppmNextRadius2(r2, 1, a);
+  CHECK(r2 == Approx((1 + a) / 2));
+  r2 = pppmNextRadius2(r2, 2, a);
+  CHECK(r2 == Approx((1 + a) / 2 * (2 + a) / 3));
+  // Asymptotically Γ-function ratios: r²_i · i^(1−α) tends to a constant.
+  double r = 1.0;
+  std::vector<double> at(4001);
+  for (int i = 1; i <= 4000; ++i) {
+    at[i] = r;
+    r = pppmNextRadius2(r, i, a);
+  }
+  CHECK(at[4000] * std::pow(4000.0, 1 - a) == Approx(at[2000] * std::pow(2000.0, 1 - a)).epsilon(1e-3));
+}
+
+TEST_CASE("progressive photon mapping in the closed furnace: L = Le / (1 − ρ)") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
+  for (const char* name : kAll) {
+    INFO(name);
+    ImageRGB img = renderProgressive(name, *scene, 8, 16, 50000, 0.1f);
+    CHECK(meanOf(img) == Approx(2.0).epsilon(0.02));
+  }
+}
+
+TEST_CASE("progressive photon mapping: point light over a plane converges to ρ/π · I cosθ / r²") {
+  Scene scene;
+  float s = 20.0f;
+  addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(scene, 0.5f));
+  scene.addLight(std::make_unique<PointLight>(Vec3(0, 1, 0), Spectrum(3.0f)));
+  scene.setCamera(lookingDown(2.0f, 0.6f));
+  scene.commit();
+  ImageRGB expected = expectedFloorImage(scene, 12, 12, [](const Vec3& x) {
+    double r2 = 1.0 + x.x * x.x + x.z * x.z;
+    return 0.5 / kPi * 3.0 / std::sqrt(r2) / r2;
+  });
+  for (const char* name : kAll) {
+    INFO(name);
+    ImageRGB img = renderProgressive(name, scene, 12, 32, 50000, 0.05f);
+    CHECK(meanOf(img) / meanOf(expected) == Approx(1.0).epsilon(0.02));
+    CHECK(relativeMSE(img, expected) < 0.01);
+  }
+}
+
+TEST_CASE("mirror caustic: PPM - SPPM and PPPM converge to E = I/h² + R·I/(2H − h)² - the path tracer cannot") {
+  MirrorCaustic mc;
+  auto scene = mc.build();
+  ImageRGB withCaustic = expectedFloorImage(*scene, 12, 12, [&](const Vec3& x) { return mc.radiance(x); });
+  ImageRGB withoutCaustic = expectedFloorImage(*scene, 12, 12, [&](const Vec3& x) { return mc.radiance(x, false); });
+  for (const char* name : kAll) {
+    INFO(name);
+    ImageRGB img = renderProgressive(name, *scene, 12, 32, 50000, 0.05f);
+    CHECK(meanOf(img) / meanOf(withCaustic) == Approx(1.0).epsilon(0.02));
+  }
+  // The path tracer converges to the image without the mirror-image term.
+  auto path = makeIntegrator("path", {});
+  RenderOptions ro;
+  ro.width = ro.height = 12;
+  ro.spp = 64;
+  ImageRGB pt = render(*scene, *path, ro, nullptr);
+  CHECK(meanOf(pt) / meanOf(withoutCaustic) == Approx(1.0).epsilon(0.02));
+}
+
+TEST_CASE("convergence rate: MSE falls as passes^(−2/3) for α = 2/3 - the path tracer as spp^(−1)") {
+  // Reference: the mirror-caustic closed form, exact per pixel. MSE averaged over 3 seeds at
+  // the checkpoints 1, 2, 4, ..., 64; slope fitted on the tail (4..64), not the start-up.
+  // Theory (Knaus & Zwicker 2011): variance ∝ 1/(N r²) and bias² ∝ r⁴ with r² ∝ N^(α−1) give
+  // MSE ∝ N^(−2/3) at α = 2/3. Accepted: slopes in [−0.85, −0.5]. Measured here: PPM −0.71,
+  // SPPM −0.63, PPPM −0.66 (at 128 passes). The band excludes the unbiased rate −1 and a
+  // stalled, fixed-radius estimate (slope → 0), and covers the 3-seed spread.
+  MirrorCaustic mc;
+  auto scene = mc.build();
+  const int W = 16;
+  ImageRGB ref = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return mc.radiance(x); });
+  for (const char* name : kAll) {
+    std::vector<double> passes, mse(7, 0.0);
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+      int k = 0;
+      renderProgressive(name, *scene, W, 64, 20000, 0.05f, seed, 0,
+                        [&](const ImageRGB& img, const PassInfo&) { mse[k++] += relativeMSE(img, ref) / 3; });
+    }
+    std::vector<double> x = {4, 8, 16, 32, 64}, y(mse.begin() + 2, mse.end());
+    double slope = logLogSlope(x, y);
+    INFO(name << " slope " << slope);
+    CHECK(slope < -0.5);
+    CHECK(slope > -0.85);
+  }
+  // The path tracer, unbiased where it converges at all (the furnace): slope −1. Its samples
+  // are heavy-tailed (next-event estimation over 2212 small triangle lights), so the MSE is
+  // averaged over 16×16 pixels and 6 seeds (at 8×8 and 3 seeds the fitted slope wandered to −0.8).
+  auto furnace = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
+  std::vector<double> spp, err;
+  for (int n = 4; n <= 64; n *= 2) {
+    double e = 0;
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+      auto path = makeIntegrator("path", {});
+      RenderOptions ro;
+      ro.width = ro.height = 16;
+      ro.spp = n;
+      ro.seed = seed;
+      ImageRGB img = render(*furnace, *path, ro, nullptr);
+      for (float v : img.data) e += (v - 2.0) * (v - 2.0) / 4.0 / img.data.size() / 6;
+    }
+    spp.push_back(n);
+    err.push_back(e);
+  }
+  double slope = logLogSlope(spp, err);
+  INFO("path slope " << slope);
+  CHECK(slope == Approx(-1.0).margin(0.15));
+}
+
+TEST_CASE("progressive photon mapping is bit-identical whatever the thread count") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");
+  for (const char* name : kAll) {
+    INFO(name);
+    ImageRGB a = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 1);
+    ImageRGB b = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 2);
+    CHECK(a.data == b.data);
+  }
+}
+
+TEST_CASE("checkpoints come after passes 1 - 2 - 4 - 8 and the last - with growing photon counts") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+  std::vector<int> seen;
+  std::vector<double> radii;
+  renderProgressive("sppm", *scene, 8, 10, 1000, 0.05f, 1, 0, [&](const ImageRGB&, const PassInfo& info) {
+    seen.push_back(info.passes);
+    radii.push_back(info.meanRadius);
+    CHECK(info.photons == uint64_t(info.passes) * 1000);
+  });
+  CHECK(seen == std::vector<int>{1, 2, 4, 8, 10});
+  for (size_t i = 1; i < radii.size(); ++i) CHECK(radii[i] <= radii[i - 1]);  // radii only shrink
+}
