@@ -96,3 +96,27 @@ TEST_CASE("cli: info reports the lights' power in watts") {
   CHECK_THAT(r.out, Contains("point"));
   CHECK_THAT(r.out, Contains("25.1327"));  // 4π · 2 W/sr
 }
+
+TEST_CASE("cli: progressive checkpoints after passes 1 - 2 - 4 and the last - with metadata") {
+  GltfFixture f;
+  std::string scene = f.write("cli-progressive.gltf"), dir = GltfFixture::dir();
+  Result r = run("render " + scene + " --integrator sppm --passes 5 --photons-per-pass 2000 --width 8 --checkpoints -q -o " +
+                 dir + "/prog.exr");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* suffix : {".pass-0001", ".pass-0002", ".pass-0004", ".pass-0005", ""}) {
+    std::string path = dir + "/prog" + suffix + ".exr";
+    REQUIRE(fs::exists(path));
+    Result m = run("info " + path);
+    REQUIRE(m.code == 0);
+    auto meta = nlohmann::json::parse(m.out);
+    CHECK(meta["integrator"] == "sppm");
+    int passes = std::stoi(meta["passes"].get<std::string>());
+    CHECK(meta["photons"] == std::to_string(passes * 2000));
+    CHECK(std::stod(meta["radius"].get<std::string>()) > 0);
+    CHECK(std::stod(meta["seconds"].get<std::string>()) >= 0);
+  }
+  CHECK_FALSE(fs::exists(dir + "/prog.pass-0003.exr"));
+  expectCleanFailure("render " + scene + " --checkpoints -o " + dir + "/nope.exr", dir + "/nope.exr", "--checkpoints");
+  expectCleanFailure("render " + scene + " --integrator pppm --alpha 0 -o " + dir + "/nope.exr", dir + "/nope.exr", "--alpha");
+}

@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
+#include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 
@@ -182,6 +183,21 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   std::printf("| k=50 gathers, pixel order (k/s) | %.1f | %.1f |\n", g1.pixelOrder / 1e3, gN.pixelOrder / 1e3);
   std::printf("| k=50 gathers, random order (k/s) | %.1f | %.1f |\n", g1.randomOrder / 1e3, gN.randomOrder / 1e3);
   std::printf("| memory per photon, map + tree (bytes) | %.1f | |\n", double(maps.global.memoryBytes()) / maps.global.size());
+
+  // Progressive photon mapping at 512² with 1 million photon paths per pass (all threads).
+  std::printf("\n| progressive, 512x512, 1M photons/pass, %d threads | passes/s | M photons/s |\n|---|---|---|\n", all);
+  for (const char* name : {"ppm", "sppm", "pppm"}) {
+    auto integrator = makeProgressiveIntegrator(name);
+    RenderOptions ro;
+    ro.width = ro.height = 512;
+    ro.threads = all;
+    ProgressiveOptions po;
+    po.passes = 3;
+    po.photonsPerPass = 1000000;
+    PassInfo info;
+    integrator->render(*scene, ro, po, {}, &info);
+    std::printf("| %s | %.3f | %.2f |\n", name, info.passes / info.seconds, info.photons / info.seconds / 1e6);
+  }
   return 0;
 }
 

@@ -130,7 +130,27 @@ int cmdRenderProgressive(const std::string& scenePath, const std::vector<std::st
   return 0;
 }
 
+// An image's photonlab metadata as one JSON object of strings.
+int cmdImageInfo(const std::string& imagePath) {
+  auto meta = readImageMetadata(imagePath);
+  ImageRGB image = readImage(imagePath);
+  std::printf("{\"width\": \"%d\", \"height\": \"%d\"", image.width, image.height);
+  for (auto& [key, value] : meta) {
+    if (key == "width" || key == "height") continue;
+    std::string escaped;
+    for (char c : value) {
+      if (c == '"' || c == '\\') escaped += '\\';
+      escaped += c;
+    }
+    std::printf(", \"%s\": \"%s\"", key.c_str(), escaped.c_str());
+  }
+  std::printf("}\n");
+  return 0;
+}
+
 int cmdInfo(const std::string& scenePath) {
+  std::string ext = fs::path(scenePath).extension().string();
+  if (ext == ".exr" || ext == ".png") return cmdImageInfo(scenePath);
   auto scene = loadScene(scenePath);
   const Bounds& b = scene->bounds();
   std::printf("scene: %s\n", scenePath.c_str());
@@ -214,9 +234,10 @@ int main(int argc, char** argv) {
   render->add_flag("--checkpoints", checkpoints,
                    "ppm/sppm/pppm: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
 
-  auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds");
+  auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds; "
+                                          "or an image's metadata as JSON");
   std::string infoScene;
-  info->add_option("scene", infoScene, "glTF 2.0 scene")->required();
+  info->add_option("file", infoScene, "glTF 2.0 scene, or an .exr written by photonlab")->required();
 
   auto* compare = app.add_subcommand("compare", "Error metrics of IMAGE against REFERENCE, as one JSON object");
   std::string imagePath, referencePath;
