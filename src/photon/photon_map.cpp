@@ -113,19 +113,26 @@ uint64_t spreadBits(uint64_t v) {
 // memory mostly sequentially instead of jumping across the whole map. LSD radix sort in four
 // 12-bit passes that move the photons with their keys (a sort of indices followed by a
 // random-access permutation was measured as slow as the tree build itself).
-void sortByMortonCode(std::vector<Photon>& photons) {
+std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks) {
   Bounds b;
-  for (const Photon& p : photons) b.extend(p.p());
+  size_t n = 0;
+  for (const auto& chunk : chunks) {
+    n += chunk.size();
+    for (const Photon& p : chunk) b.extend(p.p());
+  }
   Vec3 scale = 65535.0f / glm::max(b.hi - b.lo, Vec3(1e-20f));
   struct Keyed {
     uint64_t key;
     Photon photon;
   };
-  size_t n = photons.size();
   std::vector<Keyed> a(n), tmp(n);
-  for (size_t i = 0; i < n; ++i) {
-    Vec3 q = glm::clamp((photons[i].p() - b.lo) * scale, Vec3(0.0f), Vec3(65535.0f));
-    a[i] = {spreadBits(uint64_t(q.x)) | spreadBits(uint64_t(q.y)) << 1 | spreadBits(uint64_t(q.z)) << 2, photons[i]};
+  size_t i = 0;
+  for (auto& chunk : chunks) {
+    for (const Photon& p : chunk) {
+      Vec3 q = glm::clamp((p.p() - b.lo) * scale, Vec3(0.0f), Vec3(65535.0f));
+      a[i++] = {spreadBits(uint64_t(q.x)) | spreadBits(uint64_t(q.y)) << 1 | spreadBits(uint64_t(q.z)) << 2, p};
+    }
+    std::vector<Photon>().swap(chunk);  // release as we go
   }
   for (int shift = 0; shift < 48; shift += 12) {
     std::vector<size_t> offset(4097, 0);
@@ -134,15 +141,24 @@ void sortByMortonCode(std::vector<Photon>& photons) {
     for (const Keyed& k : a) tmp[offset[(k.key >> shift) & 4095]++] = k;
     a.swap(tmp);
   }
-  for (size_t i = 0; i < n; ++i) photons[i] = a[i].photon;
+  std::vector<Keyed>().swap(tmp);
+  std::vector<Photon> photons(n);
+  for (size_t j = 0; j < n; ++j) photons[j] = a[j].photon;
+  return photons;
 }
 
 }  // namespace
 
 void PhotonMap::build(std::vector<Photon> photons) {
+  std::vector<std::vector<Photon>> one;
+  one.push_back(std::move(photons));
+  build(std::move(one));
+}
+
+void PhotonMap::build(std::vector<std::vector<Photon>> chunks) {
   tree_.reset();
+  std::vector<Photon> photons = sortByMortonCode(chunks);
   if (photons.empty()) return;
-  sortByMortonCode(photons);
   tree_ = std::make_unique<Tree>(std::move(photons));  // the constructor builds the tree
 }
 

@@ -31,6 +31,9 @@ class PhotonMap {
 
   // Takes the photons and builds the kd-tree (single-threaded, nanoflann).
   void build(std::vector<Photon> photons);
+  // The same from the tracer's per-chunk buffers, without concatenating them first: the Morton
+  // sort reads them in order and writes the map's own array once.
+  void build(std::vector<std::vector<Photon>> chunks);
   size_t size() const;
   const std::vector<Photon>& photons() const;
   size_t memoryBytes() const;
