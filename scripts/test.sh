@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test (Catch2 through ctest, then pytest for
-# the Python scripts). This is the README's second command and what .ci/run calls.
+# the Python scripts). This is the README's second command.
+#   --sanitizers   then builds again with AddressSanitizer + UndefinedBehaviorSanitizer into
+#                  build-sanitize/ and runs the Catch2 tests there too (what .ci/run does).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -8,4 +10,10 @@ bash scripts/setup.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
 if compgen -G "tests/test_*.py" >/dev/null; then
   .venv/bin/python -m pytest -q tests
+fi
+if [ "${1:-}" = "--sanitizers" ]; then
+  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHOTONLAB_SANITIZE=ON >/dev/null
+  cmake --build build-sanitize -j"$(nproc)"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --timeout 900
 fi
