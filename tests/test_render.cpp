@@ -8,6 +8,7 @@
 #include "lights/warn_spotlight.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "scene_helpers.h"
 
 using namespace pl;
 
@@ -31,23 +32,9 @@ std::unique_ptr<Scene> floorScene(float cameraHeight, float yfov) {
   return scene;
 }
 
-// The floor point seen through film position (x, y), and the pixel's expected value: the
-// closed form averaged over the pixel (box filter) on a 6×6 grid.
 template <typename Radiance>
 ImageRGB expectedImage(const Scene& scene, int W, int H, Radiance radianceAt) {
-  ImageRGB img(W, H);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      double sum = 0;
-      for (int a = 0; a < 6; ++a)
-        for (int b = 0; b < 6; ++b) {
-          Ray r = scene.camera().generateRay(x + (a + 0.5f) / 6, y + (b + 0.5f) / 6, W, H);
-          float t = -r.o.y / r.d.y;
-          sum += radianceAt(r.o + t * r.d);
-        }
-      img.set(x, y, Spectrum(float(sum / 36)));
-    }
-  return img;
+  return test::expectedFloorImage(scene, W, H, [&](const Vec3& p) { return double(radianceAt(p)); });
 }
 
 double maxRelativeError(const ImageRGB& a, const ImageRGB& b) {

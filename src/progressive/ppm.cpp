@@ -28,24 +28,10 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
 
   auto pass = [&](int p) {
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
-    const double unnormalise = double(o.photonsPerPass);  // stored flux is Φ/(pmf·M)
     parallelFor(size_t(H), threads, [&](size_t y, int) {
-      thread_local std::vector<Neighbour> found;
       for (int x = 0; x < W; ++x) {
         size_t i = y * W + x;
-        const VisiblePoint& hp = hitPoints[i];
-        if (!hp.valid) continue;
-        float R = float(std::sqrt(stats[i].R2));
-        Vec3 n = glm::dot(hp.hit.ng, hp.wo) >= 0 ? hp.hit.ng : -hp.hit.ng;
-        maps.global.withinRadius(hp.hit.p, n, Photon::kAcceptAll, R, &found, 0.25f * R);
-        Vec3 wo = hp.hit.shading.toLocal(hp.wo);
-        glm::dvec3 phi(0.0);
-        for (const Neighbour& nb : found) {
-          const Photon& ph = maps.global.photons()[nb.index];
-          Spectrum f = hp.hit.bsdf->eval(wo, hp.hit.shading.toLocal(ph.wi()), hp.hit.uv);
-          phi += glm::dvec3(hp.beta * f * ph.flux()) * unnormalise;
-        }
-        stats[i].update(double(found.size()), phi, o.alpha);
+        gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(o.photonsPerPass), o.alpha, &stats[i]);
       }
     });
   };
@@ -56,12 +42,8 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
     for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(emittedPaths)));
     return img;
   };
-  auto meanRadius = [&] {
-    double sum = 0;
-    for (auto& s : stats) sum += std::sqrt(s.R2);
-    return sum / pixels;
-  };
-  return runPasses(o, checkpoint, info, [&](int p) { pass(p); passesDone = p; }, image, meanRadius);
+  return runPasses(o, checkpoint, info, [&](int p) { pass(p); passesDone = p; }, image,
+                   [&] { return meanRadius(stats); });
 }
 
 }  // namespace pl

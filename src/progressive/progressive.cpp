@@ -41,6 +41,29 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, 
   return L;
 }
 
+void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept, double photonsPerPass, double alpha,
+                   ProgressiveStats* stats) {
+  if (!vp.valid) return;
+  thread_local std::vector<Neighbour> found;
+  float R = float(std::sqrt(stats->R2));
+  Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
+  map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R);
+  Vec3 wo = vp.hit.shading.toLocal(vp.wo);
+  glm::dvec3 phi(0.0);
+  for (const Neighbour& nb : found) {
+    const Photon& ph = map.photons()[nb.index];
+    Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
+    phi += glm::dvec3(vp.beta * f * ph.flux()) * photonsPerPass;  // stored flux is Φ/(pmf·M)
+  }
+  stats->update(double(found.size()), phi, alpha);
+}
+
+double meanRadius(const std::vector<ProgressiveStats>& stats) {
+  double sum = 0;
+  for (auto& s : stats) sum += std::sqrt(s.R2);
+  return stats.empty() ? 0.0 : sum / stats.size();
+}
+
 float defaultRadius(const Scene& scene, int width, int height) {
   const Camera& c = scene.camera();
   float distance = std::max(glm::length(scene.bounds().center() - c.position), 1e-3f);

@@ -78,6 +78,13 @@ struct VisiblePoint {
 // Returns the emission picked up on the way (light seen directly or through specular surfaces).
 Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp);
 
+// One photon pass's contribution at a visible point: the M photons of `accepted` path types
+// inside the statistics' radius (same side, near the tangent plane) and their flux
+// Φ_M = Σ β f(ωo, ωp) Φp (unnormalised by the pass's photon count), then the PPM update.
+void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept, double photonsPerPass, double alpha,
+                   ProgressiveStats* stats);
+double meanRadius(const std::vector<ProgressiveStats>& stats);
+
 // Default initial radius: 5 pixels' footprint at the distance of the scene's centre.
 float defaultRadius(const Scene& scene, int width, int height);
 

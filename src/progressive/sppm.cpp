@@ -31,27 +31,13 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         directSum[i] += glm::dvec3(L);
       }
     });
-    // 2. Photon pass, 3. gather at the visible points.
+    // 2. Photon pass, 3. gather at the visible points (direct light came from shadow rays).
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
-    const double unnormalise = double(o.photonsPerPass);
-    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: shadow rays
+    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
     parallelFor(size_t(H), threads, [&](size_t y, int) {
-      thread_local std::vector<Neighbour> found;
       for (int x = 0; x < W; ++x) {
         size_t i = y * W + x;
-        const VisiblePoint& vp = visible[i];
-        if (!vp.valid) continue;
-        float R = float(std::sqrt(stats[i].R2));
-        Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
-        maps.global.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R);
-        Vec3 wo = vp.hit.shading.toLocal(vp.wo);
-        glm::dvec3 phi(0.0);
-        for (const Neighbour& nb : found) {
-          const Photon& ph = maps.global.photons()[nb.index];
-          Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
-          phi += glm::dvec3(vp.beta * f * ph.flux()) * unnormalise;
-        }
-        stats[i].update(double(found.size()), phi, o.alpha);
+        gatherPhotons(visible[i], maps.global, accept, double(o.photonsPerPass), o.alpha, &stats[i]);
       }
     });
     passesDone = p;
@@ -63,12 +49,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
       img.set(int(i % W), int(i / W), Spectrum(directSum[i] / double(passesDone) + stats[i].radiance(emittedPaths)));
     return img;
   };
-  auto meanRadius = [&] {
-    double sum = 0;
-    for (auto& s : stats) sum += std::sqrt(s.R2);
-    return sum / pixels;
-  };
-  return runPasses(o, checkpoint, info, pass, image, meanRadius);
+  return runPasses(o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
 }
 
 }  // namespace pl
