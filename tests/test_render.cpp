@@ -64,7 +64,9 @@ ImageRGB renderWith(const Scene& scene, const std::string& integrator, int W, in
   o.width = o.height = W;
   o.spp = spp;
   o.threads = threads;
-  auto in = makeIntegrator(integrator, IntegratorOptions{maxDepth});
+  IntegratorOptions io;
+  io.maxDepth = maxDepth;
+  auto in = makeIntegrator(integrator, io);
   return render(scene, *in, o, nullptr);
 }
 
