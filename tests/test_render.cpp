@@ -19,16 +19,9 @@ const float kRho = 0.6f;
 // A large diffuse floor at y = 0, seen from (0, H, 0) looking straight down.
 std::unique_ptr<Scene> floorScene(float cameraHeight, float yfov) {
   auto scene = std::make_unique<Scene>();
-  uint32_t m = scene->addMaterial({"floor", std::make_unique<Lambertian>(ColorTexture(Spectrum(kRho))), Spectrum(0), false});
   float s = 50.0f;
-  scene->addMesh({{-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}}, {}, {}, {0, 1, 2, 0, 2, 3}, m);
-  Camera cam;
-  cam.position = Vec3(0, cameraHeight, 0);
-  cam.forward = Vec3(0, -1, 0);
-  cam.up = Vec3(0, 0, -1);
-  cam.right = glm::cross(cam.forward, cam.up);
-  cam.yfov = yfov;
-  scene->setCamera(cam);
+  test::addQuad(*scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, test::lambertian(*scene, kRho));
+  scene->setCamera(test::lookingDown(cameraHeight, yfov));
   return scene;
 }
 

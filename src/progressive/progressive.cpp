@@ -1,5 +1,7 @@
 #include "progressive/progressive.h"
 
+#include "core/parallel.h"
+
 #include "progressive/ppm.h"
 #include "progressive/pppm.h"
 #include "progressive/sppm.h"
@@ -69,6 +71,18 @@ float defaultRadius(const Scene& scene, int width, int height) {
   float distance = std::max(glm::length(scene.bounds().center() - c.position), 1e-3f);
   float footprint = 2.0f * distance * std::tan(0.5f * c.yfov) / float(height);
   return 5.0f * footprint;
+}
+
+PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& o) {
+  PassSetup s;
+  s.image = image;
+  resolveResolution(scene.camera(), s.image);
+  s.width = s.image.width;
+  s.height = s.image.height;
+  s.threads = resolveThreads(s.image.threads);
+  s.pixels = size_t(s.width) * s.height;
+  s.initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, s.width, s.height);
+  return s;
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth) {

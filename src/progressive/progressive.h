@@ -88,6 +88,15 @@ double meanRadius(const std::vector<ProgressiveStats>& stats);
 // Default initial radius: 5 pixels' footprint at the distance of the scene's centre.
 float defaultRadius(const Scene& scene, int width, int height);
 
+// What every progressive integrator derives from its options before the first pass.
+struct PassSetup {
+  RenderOptions image;  // resolution resolved
+  int width, height, threads;
+  size_t pixels;
+  float initialRadius;  // options.radius, or defaultRadius()
+};
+PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
+
 // Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass).
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth);
 

@@ -6,11 +6,11 @@ namespace pl {
 
 ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
                                 const CheckpointFn& checkpoint, PassInfo* info) {
-  RenderOptions ro = io;
-  resolveResolution(scene.camera(), ro);
-  const int W = ro.width, H = ro.height, threads = resolveThreads(ro.threads);
-  const float r0 = o.radius > 0 ? o.radius : defaultRadius(scene, W, H);
-  const size_t pixels = size_t(W) * H;
+  const PassSetup setup = preparePasses(scene, io, o);
+  const RenderOptions& ro = setup.image;
+  const int W = setup.width, H = setup.height, threads = setup.threads;
+  const size_t pixels = setup.pixels;
+  const float r0 = setup.initialRadius;
 
   std::vector<VisiblePoint> visible(pixels);
   std::vector<glm::dvec3> directSum(pixels, glm::dvec3(0.0));  // Σ over passes of Le + L_direct
