@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Idempotent set-up: installs what is missing (Debian 12 packages, then a project-local
-# Python venv for the plotting scripts), configures and builds into build/.
+# Idempotent set-up: installs what is missing (Debian 12 packages, including Python with numpy,
+# matplotlib, OpenImageIO's bindings and pytest for scripts/, and Chromium for the report test),
+# configures and builds into build/.
 # Usage: scripts/setup.sh [--no-build]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -11,7 +12,8 @@ apt_packages=(
   libembree-dev libtbb-dev libnanoflann-dev libglm-dev
   libopenimageio-dev libtinygltf-dev nlohmann-json3-dev
   catch2 libtomlplusplus-dev libcli11-dev
-  python3 python3-venv
+  python3 python3-numpy python3-matplotlib python3-openimageio python3-pytest
+  chromium
 )
 
 missing=()
@@ -26,13 +28,9 @@ if ((${#missing[@]})); then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# Python for scripts/ (plots, comparisons, their pytest tests): a venv local to the project.
-if [ ! -x .venv/bin/python ]; then
-  python3 -m venv .venv
-fi
-if ! .venv/bin/python -c "import numpy, pytest" 2>/dev/null; then
-  .venv/bin/pip install -q numpy pytest
-fi
+# The scripts run on Debian's own Python (/usr/bin/python3), where the packages above live.
+/usr/bin/python3 -c "import numpy, matplotlib, OpenImageIO, pytest" ||
+  { echo "setup: Debian's python3 lacks numpy/matplotlib/OpenImageIO/pytest" >&2; exit 1; }
 
 [ "${1:-}" = "--no-build" ] && exit 0
 cmake -S . -B build -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-Release}" >/dev/null

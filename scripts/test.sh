@@ -9,7 +9,7 @@ cd "$root"
 bash scripts/setup.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600
 if compgen -G "tests/test_*.py" >/dev/null; then
-  .venv/bin/python -m pytest -q tests
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider tests
 fi
 if [ "${1:-}" = "--sanitizers" ]; then
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHOTONLAB_SANITIZE=ON >/dev/null

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/interrupt.h"
+#include "experiment/experiment.h"
 #include "io/image_io.h"
 #include "io/metrics.h"
 #include "progressive/progressive.h"
@@ -35,20 +37,24 @@ void checkOutputPath(const std::string& path) {
   if (!dir.empty() && !fs::is_directory(dir)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
 }
 
-const char* kernelNameOf(Kernel k) {
-  switch (k) {
-    case Kernel::Uniform: return "uniform";
-    case Kernel::Cone: return "cone";
-    case Kernel::Epanechnikov: return "epanechnikov";
-    case Kernel::Silverman: return "silverman";
-  }
-  return "?";
-}
-
 std::string formatNumber(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
+}
+
+// Interrupted (SIGINT/SIGTERM): the estimate reached so far goes to OUT.partial.exr (never over
+// OUT itself, which a script may take for a finished result), marked partial="1"; exit 130.
+int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image, std::map<std::string, std::string> meta,
+                 double seconds) {
+  meta["partial"] = "1";
+  for (auto& o : outputs) {
+    fs::path p(o);
+    std::string partial = (p.parent_path() / (p.stem().string() + ".partial" + p.extension().string())).string();
+    writeImage(partial, image, meta);
+    std::fprintf(stderr, "photonlab: interrupted after %.2f s: partial image written to %s\n", seconds, partial.c_str());
+  }
+  return 130;
 }
 
 int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, const std::string& integratorName,
@@ -72,10 +78,11 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
     meta["k"] = std::to_string(d.k);
     meta["radius"] = formatNumber(d.radius);
     meta["max_radius"] = formatNumber(d.maxRadius);
-    meta["kernel"] = kernelNameOf(d.kernel);
+    meta["kernel"] = kernelName(d.kernel);
     meta["final_gather"] = std::to_string(integratorOptions.finalGather);
     if (!integratorOptions.aov.empty()) meta["aov"] = integratorOptions.aov;
   }
+  if (stats.interrupted) return writePartial(outputs, image, meta, stats.seconds);
   for (auto& o : outputs) writeImage(o, image, meta);
   if (stats.nonFiniteSamples)
     std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)stats.nonFiniteSamples);
@@ -122,6 +129,7 @@ int cmdRenderProgressive(const std::string& scenePath, const std::vector<std::st
   }
   PassInfo info;
   ImageRGB image = integrator->render(*scene, options, progressive, checkpoint, &info);
+  if (info.interrupted) return writePartial(outputs, image, metadata(info), info.seconds);
   for (auto& o : outputs) writeImage(o, image, metadata(info));
   if (!quiet)
     std::fprintf(stderr, "%s: %dx%d, %d passes, %llu photon paths, %.2f s, mean radius %g m -> %s\n", name.c_str(),
@@ -244,6 +252,16 @@ int main(int argc, char** argv) {
   compare->add_option("image", imagePath)->required();
   compare->add_option("reference", referencePath)->required();
 
+  auto* run = app.add_subcommand("run", "Run an experiment (experiments/*.toml): reference, runs, checkpoints, metrics.csv");
+  std::string experimentPath;
+  ExperimentOptions experiment;
+  run->add_option("experiment", experimentPath, "Experiment config (TOML)")->required();
+  run->add_option("--out", experiment.out, "Results folder (default results/<name>/)");
+  run->add_option("--cache", experiment.cache, "Reference cache folder (default .reference-cache/ beside the results)");
+  run->add_flag("--force", experiment.force, "Overwrite a finished or different experiment in the results folder");
+  run->add_option("--threads", experiment.threads, "Worker threads, overriding the config (0 = all cores)");
+  run->add_flag("-q,--quiet", experiment.quiet, "Only warnings and errors");
+
   auto* bench = app.add_subcommand("bench", "Embree ray rate and path-tracer throughput (README, Performance)");
   std::string benchScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
   int benchThreads = 0, benchSpp = 8;
@@ -260,7 +278,12 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  installInterruptHandlers();
   try {
+    if (*run) {
+      if (experiment.threads < -1) throw Error("--threads: must be ≥ 0");
+      return runExperiment(experimentPath, experiment);
+    }
     if (*render) {
       if (options.width < 0 || options.height < 0) throw Error("--width/--height: must be positive");
       if (options.spp < 1) throw Error("--spp: must be at least 1");

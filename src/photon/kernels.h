@@ -46,4 +46,14 @@ inline Kernel parseKernel(const std::string& name) {
   throw Error("--kernel: unknown kernel '" + name + "' (uniform, cone, epanechnikov, silverman)");
 }
 
+inline const char* kernelName(Kernel k) {
+  switch (k) {
+    case Kernel::Uniform: return "uniform";
+    case Kernel::Cone: return "cone";
+    case Kernel::Epanechnikov: return "epanechnikov";
+    case Kernel::Silverman: return "silverman";
+  }
+  return "?";
+}
+
 }  // namespace pl

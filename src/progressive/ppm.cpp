@@ -42,7 +42,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
     for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(emittedPaths)));
     return img;
   };
-  return runPasses(o, checkpoint, info, [&](int p) { pass(p); passesDone = p; }, image,
+  return runPasses(setup, o, checkpoint, info, [&](int p) { pass(p); passesDone = p; }, image,
                    [&] { return meanRadius(stats); });
 }
 

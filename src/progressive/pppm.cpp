@@ -46,7 +46,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
     for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passesDone)));
     return img;
   };
-  return runPasses(o, checkpoint, info, pass, image, [&] { return lastRadius; });
+  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return lastRadius; });
 }
 
 }  // namespace pl

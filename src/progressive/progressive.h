@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "core/interrupt.h"
 #include "integrators/integrator.h"
 #include "photon/photon_tracer.h"
 #include "render/renderer.h"
@@ -27,9 +28,11 @@ struct PassInfo {
   uint64_t photons = 0;       // photon paths emitted so far
   double seconds = 0.0;
   double meanRadius = 0.0;    // mean gather radius (per pixel for PPM/SPPM, global for PPPM)
+  bool interrupted = false;   // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
 };
 
-// Called with the current estimate after passes 1, 2, 4, 8, ... (and after the last pass).
+// Called with the current estimate after passes 1, 2, 4, 8, ... (and after the last pass); the
+// time it takes is not counted in PassInfo::seconds nor against the time limit.
 using CheckpointFn = std::function<void(const ImageRGB&, const PassInfo&)>;
 
 class ProgressiveIntegrator {
@@ -94,6 +97,7 @@ struct PassSetup {
   int width, height, threads;
   size_t pixels;
   float initialRadius;  // options.radius, or defaultRadius()
+  std::chrono::steady_clock::time_point start;  // set-up counts towards the render time
 };
 PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
 
@@ -102,21 +106,27 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
 
 inline bool isCheckpoint(int pass) { return pass > 0 && (pass & (pass - 1)) == 0; }  // 1, 2, 4, 8, ...
 
-// The loop all three share: runs pass(1), pass(2), ... until o.passes or the time limit (checked
-// at pass boundaries), and hands image() to the checkpoint after passes 1, 2, 4, ... and the last.
+// The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
+// interrupt (all checked at pass boundaries, so at least one pass is made), and hands image() to
+// the checkpoint after passes 1, 2, 4, ... and the last.
 template <typename PassFn, typename ImageFn, typename RadiusFn>
-ImageRGB runPasses(const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info, PassFn&& pass,
-                   ImageFn&& image, RadiusFn&& meanRadius) {
-  auto start = std::chrono::steady_clock::now();
+ImageRGB runPasses(const PassSetup& setup, const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info,
+                   PassFn&& pass, ImageFn&& image, RadiusFn&& meanRadius) {
+  double paused = 0.0;  // time spent in checkpoints, not counted
   PassInfo pi;
   for (int p = 1; p <= o.passes; ++p) {
     pass(p);
     pi.passes = p;
     pi.photons = uint64_t(p) * o.photonsPerPass;
-    pi.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pi.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup.start).count() - paused;
     pi.meanRadius = meanRadius();
-    bool last = p == o.passes || (o.timeLimit > 0 && pi.seconds >= o.timeLimit);
-    if (checkpoint && (isCheckpoint(p) || last)) checkpoint(image(), pi);
+    pi.interrupted = interruptRequested();
+    bool last = p == o.passes || (o.timeLimit > 0 && pi.seconds >= o.timeLimit) || pi.interrupted;
+    if (checkpoint && (isCheckpoint(p) || last)) {
+      auto pauseStart = std::chrono::steady_clock::now();
+      checkpoint(image(), pi);
+      paused += std::chrono::duration<double>(std::chrono::steady_clock::now() - pauseStart).count();
+    }
     if (last) break;
   }
   if (info) *info = pi;

@@ -49,7 +49,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
       img.set(int(i % W), int(i / W), Spectrum(directSum[i] / double(passesDone) + stats[i].radiance(emittedPaths)));
     return img;
   };
-  return runPasses(o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
+  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
 }
 
 }  // namespace pl

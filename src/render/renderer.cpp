@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "core/interrupt.h"
 #include "core/parallel.h"
 
 namespace pl {
@@ -49,11 +50,27 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   std::vector<double> sum(size_t(W) * H * 3, 0.0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
   auto start = std::chrono::steady_clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  double paused = 0.0;  // time spent in checkpoints, not counted
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - paused;
+  };
+  auto estimate = [&](int taken) {
+    ImageRGB image(W, H);
+    for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / taken);
+    return image;
+  };
+  auto fillStats = [&](RenderStats* st, int taken, bool interrupted) {
+    st->spp = taken;
+    st->seconds = elapsed();
+    st->nonFiniteSamples = 0;
+    for (auto n : nonFinite) st->nonFiniteSamples += n;
+    st->interrupted = interrupted;
+  };
   integrator.preprocess(scene, o.seed, threads);
   Progress progress(o.progress);
 
   int taken = 0;
+  bool interrupted = false;
   int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
   for (int s = 0; s < target; ++s) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
@@ -76,18 +93,20 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
     taken = s + 1;
     double t = elapsed();
     progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
-    if (o.timeLimit > 0 && t >= o.timeLimit) break;
+    interrupted = interruptRequested();
+    bool last = taken == target || (o.timeLimit > 0 && t >= o.timeLimit) || interrupted;
+    if (o.checkpoint && ((taken & (taken - 1)) == 0 || last)) {
+      auto pauseStart = std::chrono::steady_clock::now();
+      RenderStats st;
+      fillStats(&st, taken, interrupted);
+      o.checkpoint(estimate(taken), st);
+      paused += std::chrono::duration<double>(std::chrono::steady_clock::now() - pauseStart).count();
+    }
+    if (last) break;
   }
 
-  ImageRGB image(W, H);
-  for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / taken);
-  if (stats) {
-    stats->spp = taken;
-    stats->seconds = elapsed();
-    stats->nonFiniteSamples = 0;
-    for (auto n : nonFinite) stats->nonFiniteSamples += n;
-  }
-  return image;
+  if (stats) fillStats(stats, taken, interrupted);
+  return estimate(taken);
 }
 
 }  // namespace pl

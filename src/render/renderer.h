@@ -9,6 +9,8 @@
 
 namespace pl {
 
+struct RenderStats;
+
 struct RenderOptions {
   int width = 0, height = 0;  // 0: derived (see resolveResolution)
   int spp = 16;
@@ -16,12 +18,16 @@ struct RenderOptions {
   uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
   bool progress = false;
+  // Called with the estimate so far after 1, 2, 4, 8, ... samples per pixel and after the last
+  // one; the time it takes is not counted in RenderStats::seconds nor against timeLimit.
+  std::function<void(const ImageRGB&, const RenderStats&)> checkpoint;
 };
 
 struct RenderStats {
   int spp = 0;  // samples per pixel actually taken
   double seconds = 0.0;
   uint64_t nonFiniteSamples = 0;  // discarded (counted as zero)
+  bool interrupted = false;       // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
 };
 
 // Width and height from the options and the camera: --width alone keeps the camera's aspect

@@ -1,0 +1,401 @@
+#include "experiment/config.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+namespace pl {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Which integrators a run key applies to. A key that does not apply is an error: `alpha = 0.5`
+// on a path-traced run is a mistake the user wants to hear about, not a silent no-op.
+enum Applies : unsigned { kSpp = 1, kPhoton = 2, kProgressive = 4, kAll = 7 };
+
+struct RunKey {
+  const char* key;
+  unsigned applies;
+  const char* help;
+};
+
+const RunKey kRunKeys[] = {
+    {"time", kAll, "budget in seconds"},
+    {"max_depth", kAll, "maximum number of bounces"},
+    {"spp", kSpp | kPhoton, "samples per pixel"},
+    {"photons", kPhoton, "emitted photon paths for the global map"},
+    {"caustic_photons", kPhoton, "emitted photon paths for the caustic map"},
+    {"k", kPhoton, "k nearest photons per estimate"},
+    {"radius", kPhoton | kProgressive, "gather radius in metres (photon: fixed radius; progressive: initial radius)"},
+    {"max_radius", kPhoton, "cap on the k-NN radius in metres"},
+    {"kernel", kPhoton, "uniform, cone, epanechnikov or silverman"},
+    {"final_gather", kPhoton, "gather rays per diffuse hit (0: direct visualisation)"},
+    {"passes", kProgressive, "number of photon passes"},
+    {"photons_per_pass", kProgressive, "photon paths emitted per pass"},
+    {"alpha", kProgressive, "fraction of new photons kept, in (0, 1]"},
+};
+
+unsigned familyOf(const std::string& integrator) {
+  if (isProgressive(integrator)) return kProgressive;
+  if (integrator == "photon") return kPhoton;
+  return kSpp;
+}
+
+class Parser {
+ public:
+  explicit Parser(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    std::string where = path_;
+    if (node && node->source().begin.line > 0) where += ":" + std::to_string(node->source().begin.line);
+    throw Error(where + ": " + key + ": " + what);
+  }
+  [[noreturn]] void fail(int line, const std::string& key, const std::string& what) const {
+    throw Error(path_ + (line > 0 ? ":" + std::to_string(line) : "") + ": " + key + ": " + what);
+  }
+
+  std::string string(const toml::node& n, const std::string& key) const {
+    if (!n.is_string()) fail(&n, key, std::string("must be a string, got ") + typeName(n));
+    return n.as_string()->get();
+  }
+  int64_t integer(const toml::node& n, const std::string& key, int64_t lo, int64_t hi) const {
+    if (!n.is_integer()) fail(&n, key, std::string("must be an integer, got ") + typeName(n));
+    int64_t v = n.as_integer()->get();
+    if (v < lo || v > hi) fail(&n, key, "must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + std::to_string(v));
+    return v;
+  }
+  // A real number in (lo, hi] (or [lo, hi] when closedLow); integers are accepted.
+  double number(const toml::node& n, const std::string& key, double lo, double hi, bool closedLow) const {
+    double v;
+    if (n.is_integer()) v = double(n.as_integer()->get());
+    else if (n.is_floating_point()) v = n.as_floating_point()->get();
+    else fail(&n, key, std::string("must be a number, got ") + typeName(n));
+    bool ok = std::isfinite(v) && (closedLow ? v >= lo : v > lo) && v <= hi;
+    if (!ok) {
+      std::ostringstream s;
+      s << "must be in " << (closedLow ? "[" : "(") << lo << ", " << hi << "], got " << v;
+      fail(&n, key, s.str());
+    }
+    return v;
+  }
+  std::vector<uint64_t> seeds(const toml::node& n, const std::string& key) const {
+    std::vector<uint64_t> out;
+    if (key.size() >= 4 && key.compare(key.size() - 4, 4, "seed") == 0) {
+      out.push_back(uint64_t(integer(n, key, 0, INT64_MAX)));
+      return out;
+    }
+    const toml::array* a = n.as_array();
+    if (!a) fail(&n, key, std::string("must be an array of integers, got ") + typeName(n));
+    if (a->empty()) fail(&n, key, "must list at least one seed");
+    if (a->size() > 1000) fail(&n, key, "at most 1000 seeds");
+    std::set<uint64_t> seen;
+    for (auto& e : *a) {
+      uint64_t s = uint64_t(integer(e, key, 0, INT64_MAX));
+      if (!seen.insert(s).second) fail(&e, key, "seed " + std::to_string(s) + " is listed twice");
+      out.push_back(s);
+    }
+    return out;
+  }
+
+  static const char* typeName(const toml::node& n) {
+    switch (n.type()) {
+      case toml::node_type::string: return "a string";
+      case toml::node_type::integer: return "an integer";
+      case toml::node_type::floating_point: return "a number";
+      case toml::node_type::boolean: return "a boolean";
+      case toml::node_type::array: return "an array";
+      case toml::node_type::table: return "a table";
+      default: return "a date or time";
+    }
+  }
+
+  // `integrator`, then every other key of a run (or of the reference) into `s`.
+  // `prefix` names the table in messages ("run[2]", "reference").
+  void runSettings(const toml::table& t, const std::string& prefix, const std::set<std::string>& alsoAllowed, RunSettings* s) const {
+    const toml::node* in = t.get("integrator");
+    if (!in) fail(int(t.source().begin.line), prefix, "needs an integrator (" + allIntegrators() + ")");
+    s->integrator = string(*in, prefix + ".integrator");
+    bool known = isProgressive(s->integrator);
+    for (auto& n : integratorNames()) known = known || n == s->integrator;
+    if (!known) fail(in, prefix + ".integrator", "unknown integrator '" + s->integrator + "' (" + allIntegrators() + ")");
+    const unsigned family = familyOf(s->integrator);
+    bool hasSpp = false, hasPasses = false, hasTime = false;
+
+    for (auto&& [k, node] : t) {
+      const std::string key(k.str()), name = prefix + "." + key;
+      if (key == "integrator" || alsoAllowed.count(key)) continue;
+      const RunKey* rk = nullptr;
+      for (auto& r : kRunKeys)
+        if (key == r.key) rk = &r;
+      if (!rk) fail(&node, name, "unknown key (known: " + knownKeys(family, alsoAllowed) + ")");
+      if (!(rk->applies & family))
+        fail(&node, name, "is not a parameter of integrator " + s->integrator + " (it takes: " + knownKeys(family, alsoAllowed) + ")");
+
+      if (key == "time") {
+        hasTime = true;
+        s->image.timeLimit = s->progressive.timeLimit = number(node, name, 0.0, 1e7, false);
+      } else if (key == "max_depth") {
+        s->options.maxDepth = s->progressive.maxDepth = int(integer(node, name, 1, 10000));
+      } else if (key == "spp") {
+        hasSpp = true;
+        s->image.spp = int(integer(node, name, 1, 1 << 24));
+      } else if (key == "photons") {
+        s->options.photons = uint64_t(integer(node, name, 0, 4294967295LL));
+      } else if (key == "caustic_photons") {
+        s->options.causticPhotons = uint64_t(integer(node, name, 0, 4294967295LL));
+      } else if (key == "k") {
+        s->options.density.k = int(integer(node, name, 1, 100000));
+      } else if (key == "radius") {
+        float r = float(number(node, name, 0.0, 1e9, false));
+        s->options.density.radius = r;
+        s->progressive.radius = r;
+      } else if (key == "max_radius") {
+        s->options.density.maxRadius = float(number(node, name, 0.0, 1e9, false));
+      } else if (key == "kernel") {
+        std::string kn = string(node, name);
+        try {
+          s->options.density.kernel = parseKernel(kn);
+        } catch (const Error&) {
+          fail(&node, name, "unknown kernel '" + kn + "' (uniform, cone, epanechnikov, silverman)");
+        }
+      } else if (key == "final_gather") {
+        s->options.finalGather = int(integer(node, name, 0, 100000));
+      } else if (key == "passes") {
+        hasPasses = true;
+        s->progressive.passes = int(integer(node, name, 1, 1 << 24));
+      } else if (key == "photons_per_pass") {
+        s->progressive.photonsPerPass = uint64_t(integer(node, name, 1, 4294967295LL));
+      } else if (key == "alpha") {
+        s->progressive.alpha = number(node, name, 0.0, 1.0, false);
+      }
+    }
+    // A time budget alone means: as many samples or passes as fit.
+    if (hasTime && !hasSpp) s->image.spp = 0;
+    if (hasTime && !hasPasses) s->progressive.passes = INT32_MAX;
+  }
+
+  static std::string allIntegrators() {
+    std::string s;
+    for (auto& n : integratorNames()) s += n + ", ";
+    return s + "ppm, sppm, pppm";
+  }
+  static std::string knownKeys(unsigned family, const std::set<std::string>& also) {
+    std::string s = "integrator";
+    for (auto& a : also) s += ", " + a;
+    for (auto& r : kRunKeys)
+      if (r.applies & family) s += std::string(", ") + r.key;
+    return s;
+  }
+
+  std::string resolvePath(const std::string& p) const {
+    fs::path path(p);
+    if (path.is_relative()) path = fs::absolute(fs::path(path_).parent_path()) / path;
+    return path.lexically_normal().string();
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace
+
+ExperimentConfig parseExperiment(std::string_view text, const std::string& path) {
+  Parser p(path);
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw Error(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+  }
+
+  ExperimentConfig c;
+  c.path = path;
+  std::vector<uint64_t> seeds{1};
+  const toml::node* referenceNode = nullptr;
+  const toml::node* runNode = nullptr;
+  bool hasSeed = false;
+  for (auto&& [k, node] : root) {
+    const std::string key(k.str());
+    if (key == "name") {
+      c.name = p.string(node, key);
+      bool ok = !c.name.empty() && c.name.size() <= 100 && c.name[0] != '.';
+      for (char ch : c.name) ok = ok && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.');
+      if (!ok) p.fail(&node, key, "must be a folder name: letters, digits, '-', '_', '.' (got '" + c.name + "')");
+    } else if (key == "description") {
+      c.description = p.string(node, key);
+    } else if (key == "scene") {
+      c.scene = p.resolvePath(p.string(node, key));
+      if (!fs::is_regular_file(c.scene)) p.fail(&node, key, "no such file: " + c.scene);
+    } else if (key == "width") {
+      c.width = int(p.integer(node, key, 1, 16384));
+    } else if (key == "height") {
+      c.height = int(p.integer(node, key, 1, 16384));
+    } else if (key == "threads") {
+      c.threads = int(p.integer(node, key, 0, 1024));
+    } else if (key == "seed" || key == "seeds") {
+      if (hasSeed) p.fail(&node, key, "give either seed or seeds, not both");
+      hasSeed = true;
+      seeds = p.seeds(node, key);
+    } else if (key == "inset") {
+      const toml::array* a = node.as_array();
+      if (!a || a->size() != 4) p.fail(&node, key, "must be [x, y, width, height] in pixels");
+      std::array<int, 4> v{};
+      for (size_t i = 0; i < 4; ++i) v[i] = int(p.integer((*a)[i], key, i < 2 ? 0 : 1, 16384));
+      c.inset = v;
+    } else if (key == "reference") {
+      referenceNode = &node;
+    } else if (key == "run") {
+      runNode = &node;
+    } else {
+      p.fail(&node, key, "unknown key (known: name, description, scene, width, height, seed, seeds, threads, inset, "
+                         "[reference], [[run]])");
+    }
+  }
+  if (c.name.empty()) p.fail(1, "name", "missing (the results folder name)");
+  if (c.scene.empty()) p.fail(1, "scene", "missing (a .gltf or .glb file, relative to this config)");
+  if (c.width == 0) c.width = c.height == 0 ? 512 : 0;  // height alone: width from the aspect ratio
+  if (c.inset && c.height > 0 && ((*c.inset)[0] + (*c.inset)[2] > c.width || (*c.inset)[1] + (*c.inset)[3] > c.height))
+    p.fail(1, "inset", "region lies outside the image");
+
+  // [reference]
+  if (!referenceNode) p.fail(1, "reference", "missing: a [reference] table with an integrator or a file");
+  const toml::table* ref = referenceNode->as_table();
+  if (!ref) p.fail(referenceNode, "reference", "must be a table ([reference])");
+  if (const toml::node* f = ref->get("file")) {
+    if (ref->size() != 1) p.fail(f, "reference.file", "a reference file takes no other keys");
+    c.reference.file = p.resolvePath(p.string(*f, "reference.file"));
+    if (!fs::is_regular_file(c.reference.file)) p.fail(f, "reference.file", "no such file: " + c.reference.file);
+  } else {
+    p.runSettings(*ref, "reference", {}, &c.reference.settings);
+  }
+  c.reference.settings.image.seed = seeds.front();
+
+  // [[run]]
+  if (!runNode) p.fail(1, "run", "missing: at least one [[run]] table");
+  const toml::array* runs = runNode->as_array();
+  if (!runs || runs->empty() || !runs->is_array_of_tables()) p.fail(runNode, "run", "must be one or more [[run]] tables");
+  std::set<std::string> labels;
+  for (size_t i = 0; i < runs->size(); ++i) {
+    const toml::table& t = *(*runs)[i].as_table();
+    const std::string prefix = "run[" + std::to_string(i + 1) + "]";
+    RunConfig r;
+    r.line = int(t.source().begin.line);
+    p.runSettings(t, prefix, {"label", "seed", "seeds"}, &r.settings);
+    r.seeds = seeds;
+    bool runSeed = false;
+    for (auto&& [k, node] : t) {
+      const std::string key(k.str());
+      if (key == "label") r.label = p.string(node, prefix + ".label");
+      if (key == "seed" || key == "seeds") {
+        if (runSeed) p.fail(&node, prefix + "." + key, "give either seed or seeds, not both");
+        runSeed = true;
+        r.seeds = p.seeds(node, prefix + "." + key);
+      }
+    }
+    if (r.label.empty()) r.label = r.settings.integrator + " " + std::to_string(i + 1);
+    if (r.label.size() > 200) p.fail(r.line, prefix + ".label", "longer than 200 characters");
+    if (!labels.insert(r.label).second) p.fail(r.line, prefix + ".label", "'" + r.label + "' is used by another run");
+    c.runs.push_back(std::move(r));
+  }
+  for (RunSettings* s : [&] {
+         std::vector<RunSettings*> all{&c.reference.settings};
+         for (auto& r : c.runs) all.push_back(&r.settings);
+         return all;
+       }()) {
+    s->image.width = c.width;
+    s->image.height = c.height;
+    s->image.threads = c.threads;
+  }
+  return c;
+}
+
+ExperimentConfig loadExperiment(const std::string& path) {
+  if (!fs::is_regular_file(path)) throw Error(path + ": no such experiment file");
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (!in && !in.eof()) throw Error(path + ": cannot read");
+  return parseExperiment(ss.str(), path);
+}
+
+namespace {
+
+void addSettings(toml::table& t, const RunSettings& s) {
+  t.insert_or_assign("integrator", s.integrator);
+  const unsigned family = familyOf(s.integrator);
+  if (s.image.timeLimit > 0) t.insert_or_assign("time", s.image.timeLimit);
+  t.insert_or_assign("max_depth", s.options.maxDepth);
+  if (family == kProgressive) {
+    if (s.progressive.passes != INT32_MAX) t.insert_or_assign("passes", s.progressive.passes);
+    t.insert_or_assign("photons_per_pass", int64_t(s.progressive.photonsPerPass));
+    t.insert_or_assign("alpha", s.progressive.alpha);
+    if (s.progressive.radius > 0) t.insert_or_assign("radius", double(s.progressive.radius));
+    return;
+  }
+  if (s.image.spp > 0) t.insert_or_assign("spp", s.image.spp);
+  if (family == kPhoton) {
+    t.insert_or_assign("photons", int64_t(s.options.photons));
+    t.insert_or_assign("caustic_photons", int64_t(s.options.causticPhotons));
+    t.insert_or_assign("k", s.options.density.k);
+    if (s.options.density.radius > 0) t.insert_or_assign("radius", double(s.options.density.radius));
+    if (s.options.density.maxRadius > 0) t.insert_or_assign("max_radius", double(s.options.density.maxRadius));
+    t.insert_or_assign("kernel", kernelName(s.options.density.kernel));
+    t.insert_or_assign("final_gather", s.options.finalGather);
+  }
+}
+
+}  // namespace
+
+std::string resolvedConfigToml(const ExperimentConfig& c, const std::vector<std::pair<std::string, std::string>>& provenance) {
+  toml::table root;
+  root.insert("name", c.name);
+  if (!c.description.empty()) root.insert("description", c.description);
+  root.insert("scene", c.scene);
+  root.insert("width", c.width);
+  root.insert("height", c.height);
+  root.insert("threads", c.threads);
+  if (c.inset) root.insert("inset", toml::array{(*c.inset)[0], (*c.inset)[1], (*c.inset)[2], (*c.inset)[3]});
+  toml::table ref;
+  if (!c.reference.file.empty()) {
+    ref.insert("file", c.reference.file);
+  } else {
+    addSettings(ref, c.reference.settings);
+    ref.insert("seed", int64_t(c.reference.settings.image.seed));
+  }
+  root.insert("reference", std::move(ref));
+  toml::array runs;
+  for (auto& r : c.runs) {
+    toml::table t;
+    t.insert("label", r.label);
+    addSettings(t, r.settings);
+    toml::array seeds;
+    for (auto s : r.seeds) seeds.push_back(int64_t(s));
+    t.insert("seeds", std::move(seeds));
+    runs.push_back(std::move(t));
+  }
+  root.insert("run", std::move(runs));
+  toml::table prov;
+  for (auto& [k, v] : provenance) prov.insert(k, v);
+  root.insert("provenance", std::move(prov));
+  std::ostringstream out;
+  out << "# Written by photonlab run: the experiment as rendered, every default filled in.\n" << root << "\n";
+  return out.str();
+}
+
+std::string settingsFingerprint(const RunSettings& s) {
+  toml::table t;
+  addSettings(t, s);
+  t.insert_or_assign("width", s.image.width);
+  t.insert_or_assign("height", s.image.height);
+  t.insert_or_assign("seed", int64_t(s.image.seed));
+  std::ostringstream out;
+  out << t;
+  return out.str();
+}
+
+}  // namespace pl

@@ -1,0 +1,65 @@
+// An experiment: one scene, one reference, several runs (integrator + parameters + budget), each
+// over one or more seeds. Read from TOML (experiments/*.toml); README, "Experiments", lists the
+// keys. Everything is validated here, before anything renders: an unknown key, a wrong type or an
+// out-of-range value is an Error "FILE:LINE: KEY: what".
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "progressive/progressive.h"
+#include "render/renderer.h"
+
+namespace pl {
+
+// One way of rendering the experiment's scene: everything `photonlab render` takes, minus the
+// outputs. Budgets: `spp` (or `passes`) and/or `time`; whichever comes first ends the run.
+struct RunSettings {
+  std::string integrator = "path";
+  RenderOptions image;              // width/height/seed/threads come from the experiment
+  IntegratorOptions options;        // max depth, photon-map parameters
+  ProgressiveOptions progressive;   // passes, photons per pass, alpha, radius (ppm, sppm, pppm)
+};
+
+struct RunConfig {
+  std::string label;
+  std::vector<uint64_t> seeds;
+  RunSettings settings;
+  int line = 0;  // where the run starts in the config, for messages
+};
+
+struct ReferenceConfig {
+  std::string file;      // an existing image (absolute path), or empty: render `settings`
+  RunSettings settings;  // seed = the experiment's first seed
+};
+
+struct ExperimentConfig {
+  std::string path;         // the config file
+  std::string name;         // results/<name>/
+  std::string description;
+  std::string scene;        // absolute (resolved against the config's folder)
+  int width = 0, height = 0;  // 0 height: from the camera's aspect ratio once the scene is loaded
+  int threads = 0;
+  std::optional<std::array<int, 4>> inset;  // x, y, w, h in pixels: the zoomed region of the comparison figure
+  ReferenceConfig reference;
+  std::vector<RunConfig> runs;
+};
+
+// Throws Error naming `path`, the line and the key.
+ExperimentConfig parseExperiment(std::string_view text, const std::string& path);
+ExperimentConfig loadExperiment(const std::string& path);  // reads the file, then parseExperiment
+
+// The config with every default filled in (and the resolution resolved), as TOML; `extra` lines
+// (provenance) are appended as a [provenance] table of strings.
+std::string resolvedConfigToml(const ExperimentConfig& config,
+                               const std::vector<std::pair<std::string, std::string>>& provenance);
+
+// The parameters that define a run's result, as "key=value" lines: the reference cache key hashes
+// this, and resumed experiments compare it.
+std::string settingsFingerprint(const RunSettings& s);
+
+}  // namespace pl

@@ -1,0 +1,571 @@
+#include "experiment/experiment.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/interrupt.h"
+#include "io/image_io.h"
+#include "io/metrics.h"
+#include "scene/gltf_loader.h"
+
+namespace pl {
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// One run, whatever the integrator family.
+
+ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpointFn& checkpoint, CheckpointInfo* final,
+                   std::vector<std::string>* warnings, uint64_t* nonFiniteSamples) {
+  CheckpointInfo last;
+  if (isProgressive(s.integrator)) {
+    auto integrator = makeProgressiveIntegrator(s.integrator);
+    auto toInfo = [&](const PassInfo& p) {
+      CheckpointInfo c;
+      c.seconds = p.seconds;
+      c.passes = p.passes;
+      c.photons = p.photons;
+      c.meanRadius = p.meanRadius;
+      c.interrupted = p.interrupted;
+      c.last = p.interrupted || p.passes == s.progressive.passes ||
+               (s.progressive.timeLimit > 0 && p.seconds >= s.progressive.timeLimit);
+      return c;
+    };
+    PassInfo info;
+    CheckpointFn fn;
+    if (checkpoint) fn = [&](const ImageRGB& image, const PassInfo& p) { checkpoint(image, toInfo(p)); };
+    ImageRGB image = integrator->render(scene, s.image, s.progressive, fn, &info);
+    last = toInfo(info);
+    last.last = true;
+    if (final) *final = last;
+    if (nonFiniteSamples) *nonFiniteSamples = 0;
+    return image;
+  }
+  auto integrator = makeIntegrator(s.integrator, s.options);
+  const uint64_t photons = s.integrator == "photon" ? s.options.photons + s.options.causticPhotons : 0;
+  auto toInfo = [&](const RenderStats& st) {
+    CheckpointInfo c;
+    c.seconds = st.seconds;
+    c.spp = st.spp;
+    c.photons = photons;
+    c.interrupted = st.interrupted;
+    c.last = st.interrupted || st.spp == s.image.spp || (s.image.timeLimit > 0 && st.seconds >= s.image.timeLimit);
+    return c;
+  };
+  RenderOptions o = s.image;
+  if (checkpoint) o.checkpoint = [&](const ImageRGB& image, const RenderStats& st) { checkpoint(image, toInfo(st)); };
+  RenderStats stats;
+  ImageRGB image = render(scene, *integrator, o, &stats);
+  if (warnings)
+    for (auto& w : integrator->warnings()) warnings->push_back(w);
+  last = toInfo(stats);
+  last.last = true;
+  if (final) *final = last;
+  if (nonFiniteSamples) *nonFiniteSamples = stats.nonFiniteSamples;
+  return image;
+}
+
+namespace {
+
+std::string number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> runMetadata(const RunSettings& s, const CheckpointInfo& info, const std::string& scenePath) {
+  std::map<std::string, std::string> m = {
+      {"integrator", s.integrator},         {"seed", std::to_string(s.image.seed)},
+      {"seconds", number(info.seconds)},    {"scene", scenePath},
+      {"max_depth", std::to_string(s.options.maxDepth)},
+      {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
+  if (isProgressive(s.integrator)) {
+    m["passes"] = std::to_string(info.passes);
+    m["photons"] = std::to_string(info.photons);
+    m["photons_per_pass"] = std::to_string(s.progressive.photonsPerPass);
+    m["alpha"] = number(s.progressive.alpha);
+    m["radius"] = number(info.meanRadius);
+  } else {
+    m["spp"] = std::to_string(info.spp);
+  }
+  if (s.integrator == "photon") {
+    const auto& d = s.options.density;
+    m["photons"] = std::to_string(s.options.photons);
+    m["caustic_photons"] = std::to_string(s.options.causticPhotons);
+    m["k"] = std::to_string(d.k);
+    m["radius"] = number(d.radius);
+    m["max_radius"] = number(d.maxRadius);
+    m["kernel"] = kernelName(d.kernel);
+    m["final_gather"] = std::to_string(s.options.finalGather);
+    if (!s.options.aov.empty()) m["aov"] = s.options.aov;
+  }
+  if (info.interrupted) m["partial"] = "1";
+  return m;
+}
+
+const std::vector<std::string>& metricsColumns() {
+  static const std::vector<std::string> columns = {
+      "run",    "label",  "integrator", "seed", "checkpoint", "seconds",    "spp",         "passes",
+      "photons", "rmse",  "relmse",     "mae",  "mean_ratio", "mean_radius", "final",      "image"};
+  return columns;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The experiment.
+
+namespace {
+
+uint64_t fnv1a(const std::string& bytes, uint64_t h = 0xcbf29ce484222325ULL) {
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
+  return h;
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw Error(p.string() + ": cannot read");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string hex(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)v);
+  return buf;
+}
+
+// The scene's bytes: the glTF file and, for .gltf, every external buffer and image it names
+// (a changed .bin must invalidate a cached reference too).
+std::string sceneBytes(const std::string& scenePath) {
+  std::string bytes = readFile(scenePath);
+  if (fs::path(scenePath).extension() != ".gltf") return bytes;
+  nlohmann::json j = nlohmann::json::parse(bytes, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return bytes;
+  std::string all = bytes;
+  for (const char* list : {"buffers", "images"}) {
+    if (!j.contains(list) || !j[list].is_array()) continue;
+    for (auto& e : j[list]) {
+      if (!e.is_object() || !e.contains("uri") || !e["uri"].is_string()) continue;
+      std::string uri = e["uri"];
+      if (uri.rfind("data:", 0) == 0) continue;
+      fs::path p = fs::path(scenePath).parent_path() / uri;
+      if (fs::is_regular_file(p)) all += readFile(p);
+    }
+  }
+  return all;
+}
+
+// Bump when a change to the renderers makes cached references wrong.
+constexpr int kReferenceCacheVersion = 1;
+
+std::string slug(const std::string& label) {
+  std::string s;
+  for (char c : label) {
+    unsigned char u = static_cast<unsigned char>(c);
+    if (std::isalnum(u)) s += char(std::tolower(u));
+    else if (!s.empty() && s.back() != '-') s += '-';
+    if (s.size() >= 40) break;
+  }
+  while (!s.empty() && s.back() == '-') s.pop_back();
+  return s.empty() ? "run" : s;
+}
+
+std::string csvField(const std::string& v) {
+  if (v.find_first_of(",\"\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::vector<std::string> csvSplit(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') out.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else out.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+void writeFileAtomic(const fs::path& path, const std::string& text) {
+  fs::path tmp = path;
+  tmp += ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error(path.string() + ": cannot write");
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+std::string commandOutput(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[256];
+    while (fgets(buf, sizeof buf, p)) out += buf;
+    if (pclose(p) != 0) return "";
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
+  return out;
+}
+
+std::string gitRevision(const fs::path& dir) {
+  std::string quoted = "'" + dir.string() + "'";
+  if (dir.string().find('\'') != std::string::npos) return "unknown";
+  std::string rev = commandOutput("git -C " + quoted + " rev-parse HEAD 2>/dev/null");
+  if (rev.empty()) return "unknown";
+  if (!commandOutput("git -C " + quoted + " status --porcelain --untracked-files=no 2>/dev/null").empty()) rev += "-dirty";
+  return rev;
+}
+
+// Reads `key = 'value'` (or "value") from the [provenance] table photonlab wrote.
+std::string valueOf(const std::string& toml, const std::string& key) {
+  std::istringstream in(toml);
+  std::string line;
+  const std::string prefix = key + " = ";
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) != 0 || line.size() < prefix.size() + 2) continue;
+    char q = line[prefix.size()];
+    if ((q == '\'' || q == '"') && line.back() == q) return line.substr(prefix.size() + 1, line.size() - prefix.size() - 2);
+  }
+  return "";
+}
+
+struct Row {
+  int run;
+  uint64_t seed;
+  bool final;
+  std::string line;
+};
+
+class Experiment {
+ public:
+  Experiment(ExperimentConfig config, const ExperimentOptions& o) : c_(std::move(config)), o_(o) {}
+
+  int run() {
+    std::vector<std::string> warnings;
+    scene_ = loadGltf(c_.scene, &warnings);
+    for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    resolveSizes();
+    chooseFolder();
+    renderReference();
+    return renderRuns();
+  }
+
+ private:
+  void resolveSizes() {
+    RenderOptions size;
+    size.width = c_.width;
+    size.height = c_.height;
+    resolveResolution(scene_->camera(), size);
+    c_.width = size.width;
+    c_.height = size.height;
+    if (c_.inset && ((*c_.inset)[0] + (*c_.inset)[2] > c_.width || (*c_.inset)[1] + (*c_.inset)[3] > c_.height))
+      throw Error(c_.path + ": inset: region lies outside the " + std::to_string(c_.width) + "x" +
+                  std::to_string(c_.height) + " image");
+    if (o_.threads >= 0) c_.threads = o_.threads;
+    all_ = {&c_.reference.settings};
+    for (auto& r : c_.runs) all_.push_back(&r.settings);
+    for (RunSettings* s : all_) {
+      s->image.width = c_.width;
+      s->image.height = c_.height;
+      s->image.threads = c_.threads;
+    }
+    // The fingerprint of what would be rendered; threads do not change results (deterministic).
+    std::string key = c_.scene + "\n" + c_.reference.file + "\n" + settingsFingerprint(c_.reference.settings);
+    for (auto& r : c_.runs) {
+      key += r.label + "\n" + settingsFingerprint(r.settings);
+      for (auto s : r.seeds) key += std::to_string(s) + ",";
+    }
+    configHash_ = hex(fnv1a(key));
+  }
+
+  // results/<name>/ unless it holds something else: see README, "Re-running an experiment".
+  void chooseFolder() {
+    const bool explicitOut = !o_.out.empty();
+    fs::path base = explicitOut ? fs::path(o_.out) : fs::path("results") / c_.name;
+    for (int attempt = 1;; ++attempt) {
+      fs::path dir = attempt == 1 ? base : fs::path(base.string() + "-" + std::to_string(attempt));
+      std::string state = folderState(dir);
+      if (state == "empty") {
+        out_ = dir;
+        break;
+      }
+      if (o_.force) {
+        std::fprintf(stderr, "run: --force: removing %s\n", dir.string().c_str());
+        fs::remove_all(dir);
+        out_ = dir;
+        break;
+      }
+      if (state == "resumable") {
+        out_ = dir;
+        resuming_ = true;
+        break;
+      }
+      if (explicitOut) {
+        throw Error(dir.string() + ": " +
+                    (state == "finished" ? "holds this experiment, finished; --force renders it again"
+                                         : "holds other files or another experiment; choose another --out or --force"));
+      }
+    }
+    fs::create_directories(out_ / "runs");
+    std::vector<std::pair<std::string, std::string>> provenance = {
+        {"config_file", fs::absolute(c_.path).lexically_normal().string()},
+        {"config_hash", configHash_},
+        {"git_revision", gitRevision(fs::absolute(c_.path).parent_path())},
+        {"cores", std::to_string(std::thread::hardware_concurrency())},
+        {"photonlab_threads", std::to_string(c_.threads)},
+    };
+    if (!resuming_) writeFileAtomic(out_ / "experiment.toml", resolvedConfigToml(c_, provenance));
+    if (!o_.quiet)
+      std::fprintf(stderr, "run: %s -> %s%s\n", c_.name.c_str(), out_.string().c_str(), resuming_ ? " (resuming)" : "");
+  }
+
+  // "empty", "resumable" (same experiment, unfinished), "finished" or "other".
+  std::string folderState(const fs::path& dir) {
+    if (!fs::exists(dir)) return "empty";
+    if (!fs::is_directory(dir)) return "other";
+    if (fs::is_empty(dir)) return "empty";
+    if (!fs::is_regular_file(dir / "experiment.toml")) return "other";
+    if (valueOf(readFile(dir / "experiment.toml"), "config_hash") != configHash_) return "other";
+    loadRows(dir);
+    size_t finished = 0, total = 0;
+    for (size_t i = 0; i < c_.runs.size(); ++i)
+      for (auto seed : c_.runs[i].seeds) {
+        ++total;
+        finished += isFinished(dir, int(i + 1), seed);
+      }
+    return finished == total ? "finished" : "resumable";
+  }
+
+  void loadRows(const fs::path& dir) {
+    rows_.clear();
+    std::ifstream in(dir / "metrics.csv");
+    std::string line;
+    if (!std::getline(in, line)) return;
+    while (std::getline(in, line)) {
+      auto f = csvSplit(line);
+      if (f.size() != metricsColumns().size()) continue;  // a torn line
+      try {
+        rows_.push_back({std::stoi(f[0]), std::stoull(f[3]), f[14] == "1", line});
+      } catch (const std::exception&) {
+      }
+    }
+  }
+
+  fs::path runFolder(int run, uint64_t seed) const {
+    char prefix[16];
+    std::snprintf(prefix, sizeof prefix, "%02d-", run);
+    return fs::path("runs") / (prefix + slug(c_.runs[run - 1].label)) / ("seed-" + std::to_string(seed));
+  }
+
+  bool isFinished(const fs::path& dir, int run, uint64_t seed) const {
+    for (auto& r : rows_)
+      if (r.run == run && r.seed == seed && r.final) return fs::is_regular_file(dir / runFolder(run, seed) / "final.exr");
+    return false;
+  }
+
+  void writeMetrics() {
+    std::string text;
+    for (size_t i = 0; i < metricsColumns().size(); ++i) text += (i ? "," : "") + metricsColumns()[i];
+    text += "\n";
+    for (auto& r : rows_) text += r.line + "\n";
+    writeFileAtomic(out_ / "metrics.csv", text);
+  }
+
+  void renderReference() {
+    if (!c_.reference.file.empty()) {
+      reference_ = readImage(c_.reference.file);
+      if (reference_.width != c_.width || reference_.height != c_.height)
+        throw Error(c_.reference.file + ": reference is " + std::to_string(reference_.width) + "x" +
+                    std::to_string(reference_.height) + ", the experiment renders " + std::to_string(c_.width) + "x" +
+                    std::to_string(c_.height));
+      writeImage((out_ / "reference.exr").string(), reference_, {{"reference_file", c_.reference.file}});
+      writeImage((out_ / "reference.png").string(), reference_);
+      return;
+    }
+    const RunSettings& s = c_.reference.settings;
+    const std::string key = "photonlab reference cache v" + std::to_string(kReferenceCacheVersion) + "\n" +
+                            settingsFingerprint(s) + "\n" + sceneBytes(c_.scene);
+    fs::path cacheDir = o_.cache.empty() ? out_.parent_path() / ".reference-cache" : fs::path(o_.cache);
+    if (cacheDir.empty()) cacheDir = ".reference-cache";
+    fs::path cached = cacheDir / (fs::path(c_.scene).stem().string() + "-" + s.integrator + "-" + hex(fnv1a(key)) + ".exr");
+    if (fs::is_regular_file(cached)) {
+      reference_ = readImage(cached.string());
+      if (!o_.quiet) std::fprintf(stderr, "run: reference from cache %s\n", cached.string().c_str());
+    } else {
+      if (!o_.quiet) std::fprintf(stderr, "run: rendering the reference (%s) into %s\n", s.integrator.c_str(), cached.string().c_str());
+      fs::create_directories(cacheDir);
+      CheckpointInfo info;
+      std::vector<std::string> warnings;
+      RunSettings rs = s;
+      rs.image.progress = !o_.quiet;
+      reference_ = renderRun(*scene_, rs, nullptr, &info, &warnings);
+      for (auto& w : warnings) std::fprintf(stderr, "warning: reference: %s\n", w.c_str());
+      if (info.interrupted) {
+        std::fprintf(stderr, "run: interrupted while rendering the reference; nothing cached\n");
+        throw Interrupted();
+      }
+      auto meta = runMetadata(s, info, c_.scene);
+      meta["cache_key"] = hex(fnv1a(key));
+      writeImage(cached.string(), reference_, meta);
+    }
+    std::error_code ec;
+    fs::remove(out_ / "reference.exr", ec);
+    fs::copy_file(cached, out_ / "reference.exr", fs::copy_options::overwrite_existing);
+    writeImage((out_ / "reference.png").string(), reference_);
+  }
+
+  int renderRuns() {
+    if (resuming_) loadRows(out_);
+    // Rows of unfinished runs are dropped; those runs start again.
+    std::vector<Row> kept;
+    for (auto& r : rows_)
+      if (r.run >= 1 && r.run <= int(c_.runs.size()) && isFinished(out_, r.run, r.seed)) kept.push_back(r);
+    rows_ = kept;
+    writeMetrics();
+
+    size_t total = 0, done = 0;
+    for (auto& r : c_.runs) total += r.seeds.size();
+    for (size_t i = 0; i < c_.runs.size(); ++i) {
+      for (uint64_t seed : c_.runs[i].seeds) {
+        const int run = int(i + 1);
+        if (isFinished(out_, run, seed)) {
+          ++done;
+          continue;
+        }
+        if (!renderOne(run, seed)) {
+          std::fprintf(stderr,
+                       "run: interrupted: %zu of %zu runs finished and kept in %s; the same command resumes it\n",
+                       done, total, out_.string().c_str());
+          return 130;
+        }
+        ++done;
+      }
+    }
+    summary();
+    return 0;
+  }
+
+  // Returns false when interrupted.
+  bool renderOne(int run, uint64_t seed) {
+    const RunConfig& rc = c_.runs[run - 1];
+    RunSettings s = rc.settings;
+    s.image.seed = seed;
+    const fs::path folder = runFolder(run, seed);
+    fs::remove_all(out_ / folder);
+    fs::create_directories(out_ / folder);
+    if (!o_.quiet) std::fprintf(stderr, "run %d/%zu '%s' (%s), seed %llu\n", run, c_.runs.size(), rc.label.c_str(),
+                                s.integrator.c_str(), (unsigned long long)seed);
+    int index = 0;
+    bool interrupted = false;
+    auto checkpoint = [&](const ImageRGB& image, const CheckpointInfo& info) {
+      ++index;
+      auto meta = runMetadata(s, info, c_.scene);
+      meta["label"] = rc.label;
+      meta["experiment"] = c_.name;
+      char name[48];
+      if (isProgressive(s.integrator)) std::snprintf(name, sizeof name, "pass-%04d.exr", info.passes);
+      else std::snprintf(name, sizeof name, "spp-%04d.exr", info.spp);
+      fs::path image_rel = folder / name;
+      writeImage((out_ / image_rel).string(), image, meta);
+      bool final = info.last && !info.interrupted;
+      if (info.interrupted) {
+        writeImage((out_ / folder / "partial.exr").string(), image, meta);
+        writeImage((out_ / folder / "partial.png").string(), image, meta);
+        interrupted = true;
+      } else if (final) {
+        writeImage((out_ / folder / "final.exr").string(), image, meta);
+        writeImage((out_ / folder / "final.png").string(), image, meta);
+      }
+      ErrorMetrics m = compareImages(image, reference_);
+      std::vector<std::string> f = {std::to_string(run),
+                                    rc.label,
+                                    s.integrator,
+                                    std::to_string(seed),
+                                    std::to_string(index),
+                                    number(info.seconds),
+                                    std::to_string(info.spp),
+                                    std::to_string(info.passes),
+                                    std::to_string(info.photons),
+                                    number(m.rmse),
+                                    number(m.relmse),
+                                    number(m.mae),
+                                    number(m.meanRatio),
+                                    number(info.meanRadius),
+                                    final ? "1" : "0",
+                                    image_rel.string()};
+      std::string line;
+      for (size_t i = 0; i < f.size(); ++i) line += (i ? "," : "") + csvField(f[i]);
+      rows_.push_back({run, seed, final, line});
+      writeMetrics();
+      if (!o_.quiet)
+        std::fprintf(stderr, "  %8.2f s  %s %-5d relMSE %.4g%s\n", info.seconds, isProgressive(s.integrator) ? "passes" : "spp",
+                     isProgressive(s.integrator) ? info.passes : info.spp, m.relmse, final ? "  (final)" : "");
+    };
+    std::vector<std::string> warnings;
+    uint64_t nonFinite = 0;
+    renderRun(*scene_, s, checkpoint, nullptr, &warnings, &nonFinite);
+    for (auto& w : warnings) std::fprintf(stderr, "warning: %s: %s\n", rc.label.c_str(), w.c_str());
+    if (nonFinite) std::fprintf(stderr, "warning: %s: %llu non-finite samples discarded\n", rc.label.c_str(), (unsigned long long)nonFinite);
+    return !interrupted;
+  }
+
+  void summary() {
+    if (o_.quiet) return;
+    std::fprintf(stderr, "\n%-28s %-10s %6s %10s %12s\n", "run", "integrator", "seed", "seconds", "relMSE");
+    for (auto& r : rows_) {
+      if (!r.final) continue;
+      auto f = csvSplit(r.line);
+      std::fprintf(stderr, "%-28.28s %-10s %6s %10s %12s\n", f[1].c_str(), f[2].c_str(), f[3].c_str(), f[5].c_str(), f[10].c_str());
+    }
+    std::fprintf(stderr, "\nresults in %s (metrics.csv, experiment.toml, runs/)\n", out_.string().c_str());
+  }
+
+  ExperimentConfig c_;
+  ExperimentOptions o_;
+  std::unique_ptr<Scene> scene_;
+  std::vector<RunSettings*> all_;
+  std::string configHash_;
+  fs::path out_;
+  bool resuming_ = false;
+  ImageRGB reference_;
+  std::vector<Row> rows_;
+};
+
+}  // namespace
+
+int runExperiment(const std::string& configPath, const ExperimentOptions& options) {
+  Experiment e(loadExperiment(configPath), options);
+  try {
+    return e.run();
+  } catch (const Interrupted&) {
+    return 130;
+  }
+}
+
+}  // namespace pl
