@@ -251,9 +251,12 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       referenceNode = &node;
     } else if (key == "run") {
       runNode = &node;
+    } else if (key == "provenance") {
+      // Written by `photonlab run` into experiment.toml, which can be run again as it is.
+      if (!node.is_table()) p.fail(&node, key, "must be a table");
     } else {
       p.fail(&node, key, "unknown key (known: name, description, scene, width, height, seed, seeds, threads, inset, "
-                         "[reference], [[run]])");
+                         "[reference], [[run]], [provenance])");
     }
   }
   if (c.name.empty()) p.fail(1, "name", "missing (the results folder name)");
@@ -271,9 +274,10 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     c.reference.file = p.resolvePath(p.string(*f, "reference.file"));
     if (!fs::is_regular_file(c.reference.file)) p.fail(f, "reference.file", "no such file: " + c.reference.file);
   } else {
-    p.runSettings(*ref, "reference", {}, &c.reference.settings);
+    p.runSettings(*ref, "reference", {"seed"}, &c.reference.settings);
   }
   c.reference.settings.image.seed = seeds.front();
+  if (const toml::node* s = ref->get("seed")) c.reference.settings.image.seed = uint64_t(p.integer(*s, "reference.seed", 0, INT64_MAX));
 
   // [[run]]
   if (!runNode) p.fail(1, "run", "missing: at least one [[run]] table");
@@ -356,8 +360,8 @@ std::string resolvedConfigToml(const ExperimentConfig& c, const std::vector<std:
   root.insert("name", c.name);
   if (!c.description.empty()) root.insert("description", c.description);
   root.insert("scene", c.scene);
-  root.insert("width", c.width);
-  root.insert("height", c.height);
+  if (c.width > 0) root.insert("width", c.width);
+  if (c.height > 0) root.insert("height", c.height);
   root.insert("threads", c.threads);
   if (c.inset) root.insert("inset", toml::array{(*c.inset)[0], (*c.inset)[1], (*c.inset)[2], (*c.inset)[3]});
   toml::table ref;

@@ -468,6 +468,7 @@ class Experiment {
       }
     }
     summary();
+    std::printf("%s\n", out_.string().c_str());  // the only line on stdout: for scripts
     return 0;
   }
 
@@ -537,13 +538,15 @@ class Experiment {
 
   void summary() {
     if (o_.quiet) return;
-    std::fprintf(stderr, "\n%-28s %-10s %6s %10s %12s\n", "run", "integrator", "seed", "seconds", "relMSE");
+    std::fprintf(stderr, "\n%-32s %-10s %6s %9s %12s\n", "run", "integrator", "seed", "seconds", "relMSE");
     for (auto& r : rows_) {
       if (!r.final) continue;
       auto f = csvSplit(r.line);
-      std::fprintf(stderr, "%-28.28s %-10s %6s %10s %12s\n", f[1].c_str(), f[2].c_str(), f[3].c_str(), f[5].c_str(), f[10].c_str());
+      std::fprintf(stderr, "%-32.32s %-10s %6s %9.2f %12.4g\n", f[1].c_str(), f[2].c_str(), f[3].c_str(), std::stod(f[5]),
+                   std::stod(f[10]));
     }
-    std::fprintf(stderr, "\nresults in %s (metrics.csv, experiment.toml, runs/)\n", out_.string().c_str());
+    std::fprintf(stderr, "\nresults in %s (metrics.csv, experiment.toml, runs/); report: scripts/report.py %s\n",
+                 out_.string().c_str(), out_.string().c_str());
   }
 
   ExperimentConfig c_;

@@ -1,0 +1,163 @@
+// Experiment configs: what a valid file means (defaults, budgets, seeds, paths), and that every
+// mistake is an error naming the file, the line and the key, before anything renders.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "experiment/config.h"
+#include "gltf_fixture.h"
+
+using namespace pl;
+using namespace pl::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A config in the fixture folder, next to a valid scene "scene.gltf".
+struct ConfigFixture {
+  std::string dir = GltfFixture::dir() + "/experiment";
+  ConfigFixture() {
+    fs::create_directories(dir);
+    GltfFixture f;
+    fs::copy_file(f.write("experiment-scene.gltf"), dir + "/scene.gltf", fs::copy_options::overwrite_existing);
+  }
+  std::string path() const { return dir + "/exp.toml"; }
+  ExperimentConfig parse(const std::string& text) const { return parseExperiment(text, path()); }
+  // The message of the Error parsing `text` throws.
+  std::string error(const std::string& text) const {
+    try {
+      parse(text);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    FAIL("no error for:\n" << text);
+    return "";
+  }
+};
+
+const std::string kHead = R"(name = "t"
+scene = "scene.gltf"
+width = 32
+[reference]
+integrator = "path"
+spp = 64
+)";
+
+}  // namespace
+
+TEST_CASE("experiment config: values - defaults - budgets - seeds - relative paths") {
+  ConfigFixture f;
+  auto c = f.parse(kHead + R"(
+[[run]]
+label = "SPPM"
+integrator = "sppm"
+time = 2.5
+alpha = 0.5
+photons_per_pass = 1000
+seeds = [3, 4]
+[[run]]
+integrator = "photon"
+spp = 4
+k = 20
+kernel = "cone"
+final_gather = 0
+radius = 0.05
+[[run]]
+integrator = "path"
+)");
+  CHECK(c.name == "t");
+  CHECK(c.scene == fs::path(f.dir + "/scene.gltf").lexically_normal().string());
+  CHECK(c.width == 32);
+  CHECK(c.height == 0);  // from the camera once the scene is loaded
+  REQUIRE(c.runs.size() == 3);
+  const auto& sppm = c.runs[0].settings;
+  CHECK(sppm.integrator == "sppm");
+  CHECK(sppm.progressive.timeLimit == 2.5);
+  CHECK(sppm.progressive.passes == INT32_MAX);  // time alone: as many passes as fit
+  CHECK(sppm.progressive.alpha == 0.5);
+  CHECK(sppm.progressive.photonsPerPass == 1000);
+  CHECK(c.runs[0].seeds == std::vector<uint64_t>{3, 4});
+  const auto& photon = c.runs[1].settings;
+  CHECK(photon.image.spp == 4);
+  CHECK(photon.options.density.k == 20);
+  CHECK(photon.options.density.kernel == Kernel::Cone);
+  CHECK(photon.options.density.radius == Approx(0.05f));
+  CHECK(photon.options.finalGather == 0);
+  CHECK(c.runs[1].label == "photon 2");  // default label
+  CHECK(c.runs[1].seeds == std::vector<uint64_t>{1});
+  CHECK(c.runs[2].settings.image.spp == RenderOptions().spp);  // no budget: the CLI's default
+  CHECK(c.reference.settings.image.spp == 64);
+  CHECK(c.reference.settings.image.width == 32);
+}
+
+TEST_CASE("experiment config: mistakes name the file - line and key") {
+  ConfigFixture f;
+  const std::string p = f.path();
+  // kHead is 6 lines; the [[run]] table starts on line 7.
+  struct Case {
+    std::string text, mentions;
+  } cases[] = {
+      {kHead + "[[run]]\nintegrator = \"path\"\nspq = 4\n", p + ":9: run[1].spq: unknown key"},
+      {kHead + "[[run]]\nintegrator = \"path\"\nspp = \"many\"\n", p + ":9: run[1].spp: must be an integer"},
+      {kHead + "[[run]]\nintegrator = \"path\"\nspp = 0\n", p + ":9: run[1].spp: must be from 1"},
+      {kHead + "[[run]]\nintegrator = \"path\"\nalpha = 0.5\n", p + ":9: run[1].alpha: is not a parameter of integrator path"},
+      {kHead + "[[run]]\nintegrator = \"sppm\"\nalpha = 1.5\n", p + ":9: run[1].alpha: must be in (0, 1]"},
+      {kHead + "[[run]]\nintegrator = \"photon\"\nradius = -0.1\n", p + ":9: run[1].radius: must be in (0"},
+      {kHead + "[[run]]\nintegrator = \"photon\"\nkernel = \"gauss\"\n", p + ":9: run[1].kernel: unknown kernel 'gauss'"},
+      {kHead + "[[run]]\nintegrator = \"bdpt\"\n", p + ":8: run[1].integrator: unknown integrator 'bdpt'"},
+      {kHead + "[[run]]\nspp = 4\n", p + ":7: run[1]: needs an integrator"},
+      {kHead + "[[run]]\nintegrator = \"path\"\ntime = nan\n", p + ":9: run[1].time: must be in (0"},
+      {kHead + "[[run]]\nintegrator = \"path\"\nseeds = [1, 1]\n", p + ":9: run[1].seeds: seed 1 is listed twice"},
+      {kHead + "[[run]]\nintegrator = \"path\"\n[[run]]\nintegrator = \"path\"\nlabel = \"path 1\"\n", "run[2].label: 'path 1' is used"},
+      {kHead + "[[run]]\nintegrator = \"path\"\nspp = 4\nspp = 5\n", p + ":10: "},  // TOML: duplicate key
+      {"name = \"t\"\nscene = \"missing.gltf\"\n", p + ":2: scene: no such file"},
+      {"name = \"../up\"\n", p + ":1: name: must be a folder name"},
+      {"name = \"t\"\nscene = \"scene.gltf\"\nwidht = 3\n", p + ":3: widht: unknown key"},
+      {"name = \"t\"\nscene = \"scene.gltf\"\n[[run]]\nintegrator = \"path\"\n", "reference: missing"},
+      {kHead, "run: missing"},
+      {"name = \"t\"\nscene = \"scene.gltf\"\n[reference]\nfile = \"nope.exr\"\n", p + ":4: reference.file: no such file"},
+      {kHead + "inset = [1, 2]\n", p + ":7: reference.inset: unknown key"},  // inset after [reference] belongs to it
+      {"name = \"t\"\nscene = \"scene.gltf\"\nwidth = 8\nheight = 8\ninset = [4, 4, 8, 8]\n" + kHead.substr(kHead.find("[reference]")) +
+           "[[run]]\nintegrator = \"path\"\n",
+       "inset: region lies outside the image"},
+      {"name = \"t\"\n[unclosed\n", p + ":2: "},
+  };
+  for (auto& c : cases) {
+    std::string e = f.error(c.text);
+    INFO(c.text << "\n=> " << e);
+    CHECK_THAT(e, Contains(c.mentions));
+    CHECK(e.find('\n') == std::string::npos);
+  }
+}
+
+TEST_CASE("experiment config: the fingerprint changes with what is rendered - not with threads") {
+  ConfigFixture f;
+  auto base = f.parse(kHead + "[[run]]\nintegrator = \"sppm\"\npasses = 8\n");
+  auto alpha = f.parse(kHead + "[[run]]\nintegrator = \"sppm\"\npasses = 8\nalpha = 0.5\n");
+  auto threads = f.parse("threads = 1\n" + kHead + "[[run]]\nintegrator = \"sppm\"\npasses = 8\n");
+  CHECK(settingsFingerprint(base.runs[0].settings) != settingsFingerprint(alpha.runs[0].settings));
+  CHECK(settingsFingerprint(base.runs[0].settings) == settingsFingerprint(threads.runs[0].settings));
+  // The resolved config (results/<name>/experiment.toml) is itself a config with the same meaning.
+  std::string resolved = resolvedConfigToml(alpha, {{"git_revision", "abc"}});
+  CHECK_THAT(resolved, Contains("alpha = 0.5"));
+  CHECK_THAT(resolved, Contains("git_revision = 'abc'"));
+  auto again = f.parse(resolved);
+  CHECK(settingsFingerprint(again.runs[0].settings) == settingsFingerprint(alpha.runs[0].settings));
+  CHECK(settingsFingerprint(again.reference.settings) == settingsFingerprint(alpha.reference.settings));
+  CHECK(again.runs[0].seeds == alpha.runs[0].seeds);
+}
+
+TEST_CASE("experiment config: the shipped experiments parse") {
+  int count = 0;
+  for (auto& e : fs::directory_iterator(std::string(PHOTONLAB_SOURCE_DIR) + "/experiments")) {
+    if (e.path().extension() != ".toml") continue;
+    INFO(e.path());
+    auto c = loadExperiment(e.path().string());
+    CHECK(c.name == e.path().stem().string());
+    CHECK_FALSE(c.runs.empty());
+    ++count;
+  }
+  CHECK(count >= 5);
+}

@@ -1,0 +1,215 @@
+// `photonlab run` end to end on a tiny scene, and interruption (SIGINT) of `run` and `render`:
+// rows per checkpoint, metrics that agree with `photonlab compare`, the reference cache, no silent
+// overwrite, determinism, partial images, resuming.
+#include <catch2/catch.hpp>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "gltf_fixture.h"
+
+using namespace pl::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const std::string& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+// Runs photonlab with `args` (each one argument, no shell), waiting for it to end, or for
+// `until` to exist and then sending `signal`.
+Result photonlab(const std::vector<std::string>& args, const std::string& until = "", int signal = 0) {
+  const std::string dir = GltfFixture::dir(), out = dir + "/run-stdout.txt", err = dir + "/run-stderr.txt";
+  std::fflush(stdout);
+  std::fflush(stderr);
+  pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> argv{const_cast<char*>(PHOTONLAB_BINARY)};
+    for (auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(99);
+    execv(PHOTONLAB_BINARY, argv.data());
+    _exit(98);
+  }
+  if (!until.empty()) {
+    auto start = std::chrono::steady_clock::now();
+    while (!fs::exists(until) && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    kill(pid, signal);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+std::vector<std::vector<std::string>> readCsv(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f(1);
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) f.emplace_back();
+      else f.back() += c;
+    }
+    rows.push_back(f);
+  }
+  return rows;
+}
+
+std::string writeExperiment(const std::string& name, const std::string& runs) {
+  const std::string dir = GltfFixture::dir() + "/" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  GltfFixture f;
+  fs::copy_file(f.write(name + ".gltf"), dir + "/scene.gltf");
+  std::ofstream(dir + "/exp.toml") << "name = \"" << name << "\"\nscene = \"scene.gltf\"\nwidth = 8\n"
+                                   << "[reference]\nintegrator = \"path\"\nspp = 64\n" << runs;
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("run: rows per checkpoint - metrics agree with compare - reference cache - no silent overwrite") {
+  const std::string dir = writeExperiment("exp-e2e", R"(
+[[run]]
+label = "Path, 4 spp"
+integrator = "path"
+spp = 4
+seeds = [1, 2]
+[[run]]
+label = "SPPM"
+integrator = "sppm"
+passes = 3
+photons_per_pass = 2000
+)");
+  const std::string out = dir + "/results", cache = dir + "/cache";
+  Result r = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", cache});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out == out + "\n");  // stdout: only the results folder
+
+  auto rows = readCsv(out + "/metrics.csv");
+  const std::vector<std::string> documented = {"run", "label", "integrator", "seed", "checkpoint", "seconds",
+                                               "spp", "passes", "photons", "rmse", "relmse", "mae"};
+  REQUIRE(rows.size() >= 1);
+  CHECK(std::vector<std::string>(rows[0].begin(), rows[0].begin() + 12) == documented);
+  // path: spp 1, 2, 4 for each of two seeds; sppm: passes 1, 2, 3.
+  REQUIRE(rows.size() == 1 + 6 + 3);
+  std::vector<std::string> spp, passes, finals;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    spp.push_back(rows[i][6]);
+    passes.push_back(rows[i][7]);
+    finals.push_back(rows[i][14]);
+  }
+  CHECK(spp == std::vector<std::string>{"1", "2", "4", "1", "2", "4", "0", "0", "0"});
+  CHECK(passes == std::vector<std::string>{"0", "0", "0", "0", "0", "0", "1", "2", "3"});
+  CHECK(finals == std::vector<std::string>{"0", "0", "1", "0", "0", "1", "0", "0", "1"});
+  CHECK(rows[1][1] == "Path, 4 spp");
+  CHECK(rows[9][8] == "6000");  // photon paths after 3 passes
+
+  // Every row's image exists, and its errors are what `photonlab compare` says.
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const std::string image = out + "/" + rows[i][15];
+    REQUIRE(fs::exists(image));
+    Result c = photonlab({"compare", image, out + "/reference.exr"});
+    REQUIRE(c.code == 0);
+    CHECK_THAT(c.out, Contains("\"rmse\": " + rows[i][9] + ","));
+  }
+  CHECK(fs::exists(out + "/runs/01-path-4-spp/seed-2/final.png"));
+  CHECK(fs::exists(out + "/runs/02-sppm/seed-1/final.exr"));
+  const std::string resolved = slurp(out + "/experiment.toml");
+  CHECK_THAT(resolved, Contains("git_revision = "));
+  CHECK_THAT(resolved, Contains("cores = "));
+  CHECK_THAT(resolved, Contains("height = 8"));  // resolved from the camera
+
+  // A finished result is never overwritten silently.
+  Result again = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", cache});
+  CHECK(again.code == 1);
+  CHECK_THAT(again.err, Contains("--force"));
+  // Elsewhere: the reference comes from the cache, and the same seeds give the same numbers.
+  Result second = photonlab({"run", dir + "/exp.toml", "--out", dir + "/results-2", "--cache", cache, "--threads", "1"});
+  REQUIRE(second.code == 0);
+  CHECK_THAT(second.err, Contains("reference from cache"));
+  auto rows2 = readCsv(dir + "/results-2/metrics.csv");
+  REQUIRE(rows2.size() == rows.size());
+  for (size_t i = 1; i < rows.size(); ++i) CHECK(rows2[i][9] == rows[i][9]);  // rmse, bit for bit (1 vs 2 threads)
+  // --force renders it again in place.
+  Result forced = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", cache, "--force"});
+  CHECK(forced.code == 0);
+}
+
+TEST_CASE("run: an interrupted experiment keeps finished runs - marks the partial image - resumes") {
+  const std::string dir = writeExperiment("exp-interrupt", R"(
+[[run]]
+label = "short"
+integrator = "path"
+spp = 2
+[[run]]
+label = "long"
+integrator = "path"
+time = 2
+)");
+  const std::string out = dir + "/results", cache = dir + "/cache";
+  Result r = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", cache},
+                       out + "/runs/02-long/seed-1/spp-0001.exr", SIGINT);
+  INFO(r.err);
+  CHECK(r.code == 130);
+  CHECK_THAT(r.err, Contains("1 of 2 runs finished"));
+  CHECK(fs::exists(out + "/runs/01-short/seed-1/final.exr"));
+  CHECK_FALSE(fs::exists(out + "/runs/02-long/seed-1/final.exr"));
+  REQUIRE(fs::exists(out + "/runs/02-long/seed-1/partial.exr"));
+  Result info = photonlab({"info", out + "/runs/02-long/seed-1/partial.exr"});
+  CHECK_THAT(info.out, Contains("\"partial\": \"1\""));
+  auto rows = readCsv(out + "/metrics.csv");
+  REQUIRE(rows.size() >= 3);
+  CHECK(rows[2][14] == "1");  // short's final row kept
+
+  auto before = fs::last_write_time(out + "/runs/01-short/seed-1/final.exr");
+  Result resumed = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", cache});
+  INFO(resumed.err);
+  REQUIRE(resumed.code == 0);
+  CHECK_THAT(resumed.err, Contains("resuming"));
+  CHECK(fs::last_write_time(out + "/runs/01-short/seed-1/final.exr") == before);  // not rendered again
+  CHECK(fs::exists(out + "/runs/02-long/seed-1/final.exr"));
+  CHECK_FALSE(fs::exists(out + "/runs/02-long/seed-1/partial.exr"));
+  int finals = 0;
+  for (auto& row : readCsv(out + "/metrics.csv")) finals += row.size() > 14 && row[14] == "1";
+  CHECK(finals == 2);
+}
+
+TEST_CASE("render: SIGINT writes OUT.partial.exr marked partial - never OUT - and exits non-zero") {
+  GltfFixture f;
+  const std::string scene = f.write("interrupt.gltf"), dir = GltfFixture::dir();
+  fs::remove(dir + "/sig.exr");
+  fs::remove(dir + "/sig.partial.exr");
+  // The scene loaded and at least one sample taken: the progress of a checkpointed SPPM render.
+  Result r = photonlab({"render", scene, "--integrator", "sppm", "--passes", "1000000", "--photons-per-pass", "1000",
+                        "--width", "8", "--checkpoints", "-q", "-o", dir + "/sig.exr"},
+                       dir + "/sig.pass-0001.exr", SIGINT);
+  INFO(r.err);
+  CHECK(r.code == 130);
+  CHECK_FALSE(fs::exists(dir + "/sig.exr"));
+  REQUIRE(fs::exists(dir + "/sig.partial.exr"));
+  Result info = photonlab({"info", dir + "/sig.partial.exr"});
+  CHECK_THAT(info.out, Contains("\"partial\": \"1\""));
+  CHECK_THAT(r.err, Contains("interrupted"));
+}

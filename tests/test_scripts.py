@@ -1,0 +1,193 @@
+"""The experiment scripts (plot_convergence, compare_images, report) on small synthetic results,
+and once end to end on what `photonlab run` writes, down to a headless-Chromium screenshot of
+index.html that must show the images and the plots."""
+import csv
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+SCRIPTS = os.path.join(ROOT, "scripts")
+PHOTONLAB = os.path.join(ROOT, "build", "photonlab")
+sys.path.insert(0, SCRIPTS)
+import experiment_results as er  # noqa: E402
+import plot_convergence  # noqa: E402
+import report  # noqa: E402
+
+COLUMNS = ["run", "label", "integrator", "seed", "checkpoint", "seconds", "spp", "passes", "photons", "rmse",
+           "relmse", "mae", "mean_ratio", "mean_radius", "final", "image"]
+RED, GREEN, BLUE = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+
+
+def write_exr(path, rgb, w=32, h=24):
+    img = np.zeros((h, w, 3), dtype=np.float32)
+    img[:, :] = rgb
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    out = oiio.ImageOutput.create(path)
+    out.open(path, oiio.ImageSpec(w, h, 3, oiio.FLOAT))
+    out.write_image(img)
+    out.close()
+
+
+def write_png(path, rgb, w=32, h=24):
+    img = np.zeros((h, w, 3), dtype=np.uint8)
+    img[:, :] = [int(255 * c) for c in rgb]
+    out = oiio.ImageOutput.create(path)
+    out.open(path, oiio.ImageSpec(w, h, 3, oiio.UINT8))
+    out.write_image(img)
+    out.close()
+
+
+def synthetic_results(tmp_path, columns=COLUMNS):
+    """Two runs: 'A' (path, 2 seeds, relMSE ∝ 1/spp) and 'B' (sppm, 1 seed, ∝ passes^(-2/3)); a
+    red reference, a green image for A and a blue one for B."""
+    d = tmp_path / "results"
+    write_exr(str(d / "reference.exr"), RED)
+    write_png(str(d / "reference.png"), RED)
+    rows = []
+    for seed, scale in [(1, 1.0), (2, 2.0)]:
+        for i, spp in enumerate([1, 2, 4, 8], start=1):
+            img = f"runs/01-a/seed-{seed}/spp-{spp:04d}.exr"
+            rows.append(dict(run=1, label="A, path", integrator="path", seed=seed, checkpoint=i, seconds=0.1 * spp,
+                             spp=spp, passes=0, photons=0, rmse=(scale / spp) ** 0.5, relmse=scale / spp,
+                             mae=0.1, mean_ratio=1.0, mean_radius=0, final=int(spp == 8), image=img))
+        write_exr(str(d / f"runs/01-a/seed-{seed}/spp-0008.exr"), GREEN)
+        write_exr(str(d / f"runs/01-a/seed-{seed}/final.exr"), GREEN)
+        write_png(str(d / f"runs/01-a/seed-{seed}/final.png"), GREEN)
+    for i, passes in enumerate([1, 2, 4, 8, 16], start=1):
+        img = f"runs/02-b/seed-1/pass-{passes:04d}.exr"
+        rows.append(dict(run=2, label="B", integrator="sppm", seed=1, checkpoint=i, seconds=0.2 * passes, spp=0,
+                         passes=passes, photons=1000 * passes, rmse=passes ** (-1 / 3), relmse=passes ** (-2 / 3),
+                         mae=0.1, mean_ratio=0.99, mean_radius=0.01, final=int(passes == 16), image=img))
+    write_exr(str(d / "runs/02-b/seed-1/pass-0016.exr"), BLUE)
+    write_exr(str(d / "runs/02-b/seed-1/final.exr"), BLUE)
+    write_png(str(d / "runs/02-b/seed-1/final.png"), BLUE)
+    with open(d / "metrics.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    (d / "experiment.toml").write_text('name = "synthetic"\nwidth = 32\nheight = 24\ninset = [4, 4, 8, 8]\n'
+                                       '[provenance]\ngit_revision = "abc"\ncores = "2"\n')
+    return str(d)
+
+
+def run_script(name, *args):
+    return subprocess.run([sys.executable, os.path.join(SCRIPTS, name), *args], capture_output=True, text=True)
+
+
+def test_curves_take_geometric_mean_and_band_over_seeds(tmp_path):
+    runs = er.runs(er.read_metrics(synthetic_results(tmp_path)))
+    xs, ys, lo, hi = plot_convergence.curves(runs[1], er.work_of, "relmse")
+    assert xs == [1, 2, 4, 8]
+    assert ys == pytest.approx([2 ** 0.5 / s for s in xs])  # geometric mean of 1/spp and 2/spp
+    assert lo == pytest.approx([1 / s for s in xs]) and hi == pytest.approx([2 / s for s in xs])
+    xs, ys, _, _ = plot_convergence.curves(runs[2], er.work_of, "relmse")
+    slope = np.polyfit(np.log(xs), np.log(ys), 1)[0]
+    assert slope == pytest.approx(-2 / 3)
+
+
+def test_plots_and_report_are_written(tmp_path):
+    d = synthetic_results(tmp_path)
+    for script, stem in [("plot_convergence.py", "convergence"), ("compare_images.py", "comparison")]:
+        r = run_script(script, d)
+        assert r.returncode == 0, r.stderr
+        for ext in ("png", "pdf"):
+            path = os.path.join(d, f"{stem}.{ext}")
+            assert os.path.getsize(path) > 1000
+        assert open(os.path.join(d, f"{stem}.png"), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+    r = run_script("report.py", d)
+    assert r.returncode == 0, r.stderr
+    page = open(os.path.join(d, "index.html"), encoding="utf-8").read()
+    assert "A, path" in page and "<table>" in page
+    # Means over seeds in the table: relMSE of A's finals is (1/8 + 2/8)/2.
+    assert f"{(1 / 8 + 2 / 8) / 2:.4g}" in page
+    # Every relative link resolves: the page works offline and moves with the folder.
+    import re
+    for link in re.findall(r'(?:src|href)="([^"]+)"', page):
+        assert os.path.exists(os.path.join(d, link)), link
+
+
+@pytest.mark.parametrize("script", ["plot_convergence.py", "compare_images.py", "report.py"])
+def test_a_missing_column_is_a_one_line_error(tmp_path, script):
+    d = synthetic_results(tmp_path, columns=[c for c in COLUMNS if c != "relmse"])
+    r = run_script(script, d)
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr
+    assert r.stderr.count("\n") == 1
+    assert "metrics.csv: missing column(s) relmse" in r.stderr
+
+
+def test_bad_folders_and_values_are_one_line_errors(tmp_path):
+    r = run_script("report.py", str(tmp_path / "nowhere"))
+    assert r.returncode == 2 and "no such file" in r.stderr and "Traceback" not in r.stderr
+    d = synthetic_results(tmp_path)
+    text = open(os.path.join(d, "metrics.csv")).read().replace(",0.1,", ",zero,", 1)
+    open(os.path.join(d, "metrics.csv"), "w").write(text)
+    r = run_script("plot_convergence.py", d)
+    assert r.returncode == 2 and "not a number" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_relmse_map_is_photonlabs_relmse():
+    rng = np.random.default_rng(1)
+    ref = rng.uniform(0, 2, (8, 8, 3))
+    img = ref + rng.normal(0, 0.1, ref.shape)
+    expected = np.mean((img - ref) ** 2 / (ref ** 2 + 0.01))
+    assert er.relmse_map(img, ref).mean() == pytest.approx(expected, rel=1e-12)
+
+
+def screenshot(html, png, size="1200,2600"):
+    chromium = shutil.which("chromium")
+    assert chromium, "chromium is missing: scripts/setup.sh installs it"
+    r = subprocess.run([chromium, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                        f"--screenshot={png}", f"--window-size={size}", "file://" + os.path.abspath(html)],
+                       capture_output=True, text=True, timeout=120)
+    assert os.path.isfile(png), r.stderr
+    return oiio.ImageBuf(png).get_pixels(oiio.UINT8)[:, :, :3].astype(int)
+
+
+def fraction_near(pixels, rgb, tolerance=30):
+    return np.mean(np.all(np.abs(pixels - np.array(rgb)) <= tolerance, axis=2))
+
+
+def test_report_in_headless_chromium_shows_images_and_plots(tmp_path):
+    d = synthetic_results(tmp_path)
+    assert run_script("report.py", d).returncode == 0
+    px = screenshot(os.path.join(d, "index.html"), str(tmp_path / "shot.png"))
+    # The reference (red) and the two runs' images (green, blue) are on the page, as <img>s and in
+    # the comparison figure; the plot's first line is matplotlib's C0 blue.
+    assert fraction_near(px, (255, 0, 0)) > 0.005
+    assert fraction_near(px, (0, 255, 0)) > 0.005
+    assert fraction_near(px, (0, 0, 255)) > 0.005
+    assert fraction_near(px, (31, 119, 180), tolerance=12) > 0.0001  # ~300 pixels of line
+    assert fraction_near(px, (255, 255, 255)) < 0.95  # not a blank page
+
+
+def test_end_to_end_photonlab_run_then_report(tmp_path):
+    assert os.access(PHOTONLAB, os.X_OK), "build/photonlab is missing: run scripts/setup.sh"
+    config = tmp_path / "e2e.toml"
+    config.write_text(f'name = "e2e"\nscene = "{ROOT}/scenes/cornell-box.gltf"\nwidth = 24\ninset = [0, 0, 8, 8]\n'
+                      '[reference]\nintegrator = "path"\nspp = 64\n'
+                      '[[run]]\nlabel = "Path"\nintegrator = "path"\nspp = 8\nseeds = [1, 2]\n'
+                      '[[run]]\nlabel = "SPPM"\nintegrator = "sppm"\npasses = 4\nphotons_per_pass = 5000\n')
+    r = subprocess.run([PHOTONLAB, "run", str(config), "--out", str(tmp_path / "out"), "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    out = r.stdout.strip()
+    rows = er.read_metrics(out)
+    assert {row["label"] for row in rows} == {"Path", "SPPM"}
+    r = run_script("report.py", out)
+    assert r.returncode == 0, r.stderr
+    table = report.final_table(rows)
+    assert [t["label"] for t in table] == ["Path", "SPPM"] and table[0]["seeds"] == 2
+    # The path tracer's error falls roughly as 1/spp between 1 and 8 spp (two seeds).
+    path = er.runs(rows)[1]
+    xs, ys, _, _ = plot_convergence.curves(path, er.work_of, "relmse")
+    assert xs == [1, 2, 4, 8]
+    slope = np.polyfit(np.log(xs), np.log(ys), 1)[0]
+    assert -1.4 < slope < -0.6
+    px = screenshot(os.path.join(out, "index.html"), str(tmp_path / "shot.png"))
+    assert fraction_near(px, (255, 255, 255)) < 0.97
