@@ -132,6 +132,20 @@ TEST_CASE("experiment config: mistakes name the file - line and key") {
   }
 }
 
+// Found by fuzzing (scripts/fuzz.sh experiment): a config path without a folder made
+// std::filesystem::absolute("") throw instead of resolving against the working directory.
+TEST_CASE("experiment config: a config named without a folder resolves against the working directory") {
+  ConfigFixture f;
+  auto cwd = fs::current_path();
+  fs::current_path(f.dir);
+  ExperimentConfig c;
+  CHECK_NOTHROW(c = parseExperiment(kHead + "[[run]]\nintegrator = \"path\"\n", "exp.toml"));
+  CHECK(c.scene == fs::path(f.dir + "/scene.gltf").lexically_normal().string());
+  std::string nul = "name = \"t\"\nscene = \"a\\u0000b\"\n";
+  CHECK_THROWS_WITH(parseExperiment(nul, "exp.toml"), Contains("exp.toml:2: scene: not a usable file name"));
+  fs::current_path(cwd);
+}
+
 TEST_CASE("experiment config: the fingerprint changes with what is rendered - not with threads") {
   ConfigFixture f;
   auto base = f.parse(kHead + "[[run]]\nintegrator = \"sppm\"\npasses = 8\n");

@@ -71,6 +71,7 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
       {"seed", std::to_string(options.seed)}, {"seconds", formatNumber(stats.seconds)},
       {"scene", scenePath},                  {"max_depth", std::to_string(integratorOptions.maxDepth)},
       {"width", std::to_string(options.width)}, {"height", std::to_string(options.height)}};
+  if (options.nanAov) meta["aov"] = "nan";
   if (integratorName == "photon") {
     const auto& d = integratorOptions.density;
     meta["photons"] = std::to_string(integratorOptions.photons);
@@ -231,7 +232,9 @@ int main(int argc, char** argv) {
   render->add_option("--final-gather", integratorOptions.finalGather,
                      "Photon mapping: gather rays per diffuse hit; 0 = direct visualisation of the global map")
       ->capture_default_str();
-  render->add_option("--aov", integratorOptions.aov, "Debug image instead of radiance: photons | radius");
+  render->add_option("--aov", integratorOptions.aov,
+                     "Debug image instead of radiance: nan (fraction of discarded non-finite samples); "
+                     "photons | radius (--integrator photon)");
   ProgressiveOptions progressive;
   bool checkpoints = false;
   render->add_option("--passes", progressive.passes, "ppm/sppm/pppm: number of passes")->capture_default_str();
@@ -297,8 +300,14 @@ int main(int argc, char** argv) {
       if (!(integratorOptions.density.maxRadius >= 0) || !std::isfinite(integratorOptions.density.maxRadius))
         throw Error("--max-radius: must be a positive length");
       if (integratorOptions.finalGather < 0) throw Error("--final-gather: must be ≥ 0");
-      if (!integratorOptions.aov.empty() && integratorOptions.aov != "photons" && integratorOptions.aov != "radius")
-        throw Error("--aov: must be photons or radius");
+      if (!integratorOptions.aov.empty() && integratorOptions.aov != "photons" && integratorOptions.aov != "radius" &&
+          integratorOptions.aov != "nan")
+        throw Error("--aov: must be nan, photons or radius");
+      if (integratorOptions.aov == "nan") {
+        if (isProgressive(integratorName)) throw Error("--aov nan: only with direct, whitted, path or photon");
+        options.nanAov = true;
+        integratorOptions.aov.clear();
+      }
       if (!(progressive.alpha > 0 && progressive.alpha <= 1)) throw Error("--alpha: must be in (0, 1]");
       if (progressive.passes < 1) throw Error("--passes: must be at least 1");
       if (progressive.photonsPerPass < 1 || progressive.photonsPerPass >= (uint64_t(1) << 32))

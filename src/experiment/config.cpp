@@ -190,10 +190,21 @@ class Parser {
     return s;
   }
 
-  std::string resolvePath(const std::string& p) const {
+  // Relative to the config's folder (the working directory for "exp.toml"). Paths the file
+  // system cannot represent (a NUL byte) are errors, not exceptions from <filesystem>.
+  std::string resolvePath(const toml::node& n, const std::string& key) const {
+    std::string p = string(n, key);
+    if (p.empty() || p.find('\0') != std::string::npos) fail(&n, key, "not a usable file name");
+    std::error_code ec;
+    fs::path folder = fs::path(path_).parent_path();
     fs::path path(p);
-    if (path.is_relative()) path = fs::absolute(fs::path(path_).parent_path()) / path;
+    if (path.is_relative()) path = fs::absolute(folder.empty() ? fs::path(".") : folder, ec) / path;
+    if (ec) fail(&n, key, "cannot resolve '" + p + "': " + ec.message());
     return path.lexically_normal().string();
+  }
+  static bool isFile(const std::string& p) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
   }
 
   const std::string& path() const { return path_; }
@@ -229,8 +240,8 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     } else if (key == "description") {
       c.description = p.string(node, key);
     } else if (key == "scene") {
-      c.scene = p.resolvePath(p.string(node, key));
-      if (!fs::is_regular_file(c.scene)) p.fail(&node, key, "no such file: " + c.scene);
+      c.scene = p.resolvePath(node, key);
+      if (!Parser::isFile(c.scene)) p.fail(&node, key, "no such file: " + c.scene);
     } else if (key == "width") {
       c.width = int(p.integer(node, key, 1, 16384));
     } else if (key == "height") {
@@ -271,8 +282,8 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
   if (!ref) p.fail(referenceNode, "reference", "must be a table ([reference])");
   if (const toml::node* f = ref->get("file")) {
     if (ref->size() != 1) p.fail(f, "reference.file", "a reference file takes no other keys");
-    c.reference.file = p.resolvePath(p.string(*f, "reference.file"));
-    if (!fs::is_regular_file(c.reference.file)) p.fail(f, "reference.file", "no such file: " + c.reference.file);
+    c.reference.file = p.resolvePath(*f, "reference.file");
+    if (!Parser::isFile(c.reference.file)) p.fail(f, "reference.file", "no such file: " + c.reference.file);
   } else {
     p.runSettings(*ref, "reference", {"seed"}, &c.reference.settings);
   }
@@ -319,7 +330,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
 }
 
 ExperimentConfig loadExperiment(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw Error(path + ": no such experiment file");
+  if (!Parser::isFile(path)) throw Error(path + ": no such experiment file");
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/memory.h"
 #include "core/parallel.h"
 
 namespace pl {
@@ -17,7 +18,7 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
   Rng rng(0);
   EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng);
   Spectrum flux = e.flux;
-  if (isBlack(flux)) return;
+  if (isBlack(flux) || !isFinite(flux)) return;
   Ray ray = e.ray;
   ray.tmin = scene.epsilon();  // area-light photons start on the emitting triangle
   bool onlySpecular = true;
@@ -41,8 +42,9 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
     // so the flux keeps its magnitude instead of shrinking bounce after bounce.
     float q = std::min(1.0f, maxComponent(bs.weight));
-    if (q <= 0 || rng.uniform() >= q) return;
+    if (!(q > 0) || rng.uniform() >= q) return;  // also ends on NaN
     flux *= bs.weight / q;
+    if (!isFinite(flux)) return;  // a non-finite BSDF weight ends the path: it never reaches a map
     Vec3 wi = hit.shading.toWorld(bs.wi);
     ray = scene.spawnRay(hit, wi);
   }
@@ -88,6 +90,10 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
 }
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& o) {
+  // Each emitted path stores one 20-byte photon or more in a closed scene, plus 4 bytes of
+  // kd-tree index: refuse a count the machine cannot hold before tracing for minutes.
+  checkMemory(mulSaturate(o.globalPaths + o.causticPaths, sizeof(Photon) + sizeof(uint32_t)),
+              std::to_string(o.globalPaths + o.causticPaths) + " photon paths");
   uint64_t rays0 = Scene::raysTraced();
   PhotonMaps maps;
   if (o.globalPaths) maps.global = traceMap(scene, o, o.globalPaths, false, &maps);

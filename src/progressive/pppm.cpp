@@ -34,7 +34,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
           L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
           L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);
         }
-        sum[i] += glm::dvec3(L);
+        if (isFinite(L)) sum[i] += glm::dvec3(L);  // a non-finite sample is dropped, never accumulated
       }
     });
     lastRadius = de.radius;

@@ -1,5 +1,6 @@
 #include "progressive/progressive.h"
 
+#include "core/memory.h"
 #include "core/parallel.h"
 
 #include "progressive/ppm.h"
@@ -37,9 +38,11 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, 
                           TransportMode::Radiance, &s))
       break;
     beta *= s.weight;
-    if (isBlack(beta)) break;
+    if (isBlack(beta) || !isFinite(beta)) break;
     ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
   }
+  // The progressive film has no per-sample discard: nothing non-finite may enter it.
+  if (!isFinite(L)) L = Spectrum(0.0f);
   return L;
 }
 
@@ -57,6 +60,9 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
     Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
     phi += glm::dvec3(vp.beta * f * ph.flux()) * photonsPerPass;  // stored flux is Φ/(pmf·M)
   }
+  // The statistics persist over all passes: one non-finite BSDF value would poison the pixel
+  // for good, so such a pass's photons are dropped at this point (the radius does not shrink).
+  if (!std::isfinite(phi.x) || !std::isfinite(phi.y) || !std::isfinite(phi.z)) return;
   stats->update(double(found.size()), phi, alpha);
 }
 
@@ -82,6 +88,8 @@ PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const Pr
   s.height = s.image.height;
   s.threads = resolveThreads(s.image.threads);
   s.pixels = size_t(s.width) * s.height;
+  checkMemory(mulSaturate(s.pixels, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float)),
+              std::to_string(s.width) + "x" + std::to_string(s.height) + " progressive image");
   s.initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, s.width, s.height);
   return s;
 }

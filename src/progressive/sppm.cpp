@@ -27,7 +27,10 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
-        if (vp.valid) L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
+        if (vp.valid) {
+          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
+          if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
+        }
         directSum[i] += glm::dvec3(L);
       }
     });

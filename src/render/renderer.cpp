@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "core/interrupt.h"
+#include "core/memory.h"
 #include "core/parallel.h"
 
 namespace pl {
@@ -46,9 +47,12 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   resolveResolution(scene.camera(), o);
   const int W = o.width, H = o.height;
   const int threads = resolveThreads(o.threads);
+  checkMemory(mulSaturate(uint64_t(W) * uint64_t(H), 3 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t)),
+              std::to_string(W) + "x" + std::to_string(H) + " image");
   // Double-precision sums: float accumulation drifts over thousands of samples.
   std::vector<double> sum(size_t(W) * H * 3, 0.0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
+  std::vector<uint32_t> nanCount(o.nanAov ? size_t(W) * H : 0, 0);  // per pixel, for --aov nan
   auto start = std::chrono::steady_clock::now();
   double paused = 0.0;  // time spent in checkpoints, not counted
   auto elapsed = [&] {
@@ -56,6 +60,10 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   };
   auto estimate = [&](int taken) {
     ImageRGB image(W, H);
+    if (o.nanAov) {
+      for (size_t i = 0; i < nanCount.size(); ++i) image.set(int(i % W), int(i / W), Spectrum(float(nanCount[i]) / taken));
+      return image;
+    }
     for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / taken);
     return image;
   };
@@ -82,8 +90,9 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
         float jx = rng.uniform(), jy = rng.uniform();
         Ray ray = scene.camera().generateRay(x + jx, float(y) + jy, W, H);
         Spectrum L = integrator.Li(ray, scene, rng);
-        if (!isFinite(L)) {
+        if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
           ++nonFinite[y];
+          if (o.nanAov) ++nanCount[pixel];
           continue;
         }
         double* p = &sum[pixel * 3];

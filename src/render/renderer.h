@@ -18,6 +18,9 @@ struct RenderOptions {
   uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
   bool progress = false;
+  // --aov nan: instead of radiance, each pixel holds the fraction of its samples that were
+  // non-finite (NaN or ±Inf) and discarded; 0 everywhere in a healthy render.
+  bool nanAov = false;
   // Called with the estimate so far after 1, 2, 4, 8, ... samples per pixel and after the last
   // one; the time it takes is not counted in RenderStats::seconds nor against timeLimit.
   std::function<void(const ImageRGB&, const RenderStats&)> checkpoint;

@@ -9,6 +9,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/memory.h"
 #include "bsdfs/dielectric.h"
 #include "bsdfs/ggx_conductor.h"
 #include "bsdfs/lambertian.h"
@@ -33,9 +34,67 @@ std::string oneLine(std::string s) {
 // count is not backed by any bytes in the file, so cap it.
 constexpr size_t kMaxElementsWithoutData = 1u << 24;
 
+// Scenes live within ±10⁷ m of the origin. Beyond that, float positions are too coarse for ray
+// offsets, and near 10¹⁸ Embree rejects rays outright (an assertion in Debian's build). Found by
+// fuzzing: a vertex at 1.5·10³⁷ m aborted the renderer.
+constexpr float kMaxCoordinate = 1e7f;
+inline bool withinScene(const Vec3& p) {
+  return std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate && std::abs(p.z) <= kMaxCoordinate;
+}
+
+// Textures: the image's own header gives its size; check it before stb_image allocates from it
+// (a 16-byte PNG can claim 100000 × 100000 pixels, 40 GB once decoded).
+bool imageSizeFromHeader(const unsigned char* b, int n, uint64_t* w, uint64_t* h) {
+  auto be32 = [&](int i) { return uint64_t(b[i]) << 24 | uint64_t(b[i + 1]) << 16 | uint64_t(b[i + 2]) << 8 | b[i + 3]; };
+  if (n >= 24 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) {
+    *w = be32(16);
+    *h = be32(20);
+    return true;
+  }
+  if (n >= 4 && b[0] == 0xFF && b[1] == 0xD8) {  // JPEG: the first SOFn segment holds the size
+    for (int i = 2; i + 9 < n;) {
+      if (b[i] != 0xFF) return false;
+      int marker = b[i + 1];
+      int length = b[i + 2] << 8 | b[i + 3];
+      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+        *h = uint64_t(b[i + 5]) << 8 | b[i + 6];
+        *w = uint64_t(b[i + 7]) << 8 | b[i + 8];
+        return true;
+      }
+      if (length < 2) return false;
+      i += 2 + length;
+    }
+  }
+  return false;
+}
+
+constexpr uint64_t kMaxTextureSide = 32768;
+
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqW, int reqH,
+                      const unsigned char* bytes, int size, void* user) {
+  uint64_t w = 0, h = 0;
+  if (imageSizeFromHeader(bytes, size, &w, &h)) {
+    if (w == 0 || h == 0 || w > kMaxTextureSide || h > kMaxTextureSide) {
+      if (err) *err += "images[" + std::to_string(index) + "]: " + std::to_string(w) + " x " + std::to_string(h) +
+                       " pixels (at most " + std::to_string(kMaxTextureSide) + " a side)";
+      return false;
+    }
+    try {
+      checkMemory(w * h * 4, "images[" + std::to_string(index) + "]");
+    } catch (const Error& e) {
+      if (err) *err += e.what();
+      return false;
+    }
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, reqW, reqH, bytes, size, user);
+}
+
 class Loader {
  public:
   Loader(std::string path, std::vector<std::string>* warnings) : path_(std::move(path)), warnings_(warnings) {}
+  // From memory (the fuzz target): `bytes` is the file; external URIs resolve against nothing.
+  Loader(std::string name, const unsigned char* bytes, size_t size, std::vector<std::string>* warnings)
+      : path_(std::move(name)), warnings_(warnings), bytes_(bytes), size_(size) {}
 
   std::unique_ptr<Scene> load() {
     parse();
@@ -70,16 +129,25 @@ class Loader {
   }
 
   void parse() {
-    std::ifstream f(path_, std::ios::binary);
-    if (!f) fail("file", std::string("cannot open (") + std::strerror(errno) + ")");
-    char magic[4] = {};
-    f.read(magic, 4);
-    bool binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
-    f.close();
     tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(loadImageChecked, nullptr);
     std::string err, warn;
-    bool ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_)
-                     : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    bool ok, binary;
+    if (bytes_) {
+      if (size_ > UINT32_MAX) fail("file", "larger than 4 GiB");
+      binary = size_ >= 4 && std::memcmp(bytes_, "glTF", 4) == 0;
+      const std::string nowhere = "/nonexistent-photonlab-fuzz";
+      ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes_, unsigned(size_), nowhere)
+                  : gltf.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes_), unsigned(size_), nowhere);
+    } else {
+      std::ifstream f(path_, std::ios::binary);
+      if (!f) fail("file", std::string("cannot open (") + std::strerror(errno) + ")");
+      char magic[4] = {};
+      f.read(magic, 4);
+      binary = f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+      f.close();
+      ok = binary ? gltf.LoadBinaryFromFile(&model_, &err, &warn, path_) : gltf.LoadASCIIFromFile(&model_, &err, &warn, path_);
+    }
     if (!ok || !err.empty()) fail(binary ? "glb" : "json", oneLine(err.empty() ? "cannot parse" : err));
     if (!warn.empty()) this->warn(oneLine(warn));
   }
@@ -353,6 +421,10 @@ class Loader {
     const tinygltf::Node& node = model_.nodes[index];
     std::string el = "nodes[" + std::to_string(index) + "]";
     Mat4 world = parent * localTransform(node, el);
+    for (int c = 0; c < 4; ++c)
+      if (!isFinite(Vec3(world[c])) || !std::isfinite(world[c][3])) fail(el, "transform is not finite (overflow)");
+    if (!withinScene(Vec3(world[3])))
+      fail(el, "transform places it beyond 1e7 m from the origin (coordinates are in metres)");
     if (node.mesh >= 0) addMesh(node.mesh, world);
     if (node.camera >= 0) addCamera(node.camera, world, el);
     if (auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
@@ -477,6 +549,8 @@ class Loader {
         }
         if (!T.empty()) uvs[i] = Vec2(T[2 * i], T[2 * i + 1]);
         if (!isFinite(positions[i])) fail(el + ".POSITION", "not finite after the node transform");
+        if (!withinScene(positions[i]))
+          fail(el + ".POSITION", "vertex " + std::to_string(i) + " lies beyond 1e7 m from the origin (coordinates are in metres)");
       }
       int material = prim.material;
       if (material >= int(model_.materials.size())) fail(el + ".material", "index out of range");
@@ -503,6 +577,8 @@ class Loader {
 
   std::string path_;
   std::vector<std::string>* warnings_;
+  const unsigned char* bytes_ = nullptr;
+  size_t size_ = 0;
   tinygltf::Model model_;
   std::unique_ptr<Scene> scene_;
   uint32_t defaultMaterial_ = 0;
@@ -513,6 +589,11 @@ class Loader {
 
 std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings) {
   return Loader(path, warnings).load();
+}
+
+std::unique_ptr<Scene> loadGltfFromMemory(const std::string& name, const void* bytes, size_t size,
+                                          std::vector<std::string>* warnings) {
+  return Loader(name, static_cast<const unsigned char*>(bytes), size, warnings).load();
 }
 
 }  // namespace pl

@@ -13,4 +13,9 @@ namespace pl {
 // approximated) are appended to `warnings`.
 std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+// The same from the bytes of a .gltf or .glb (`name` only names it in messages). External files
+// are not read: buffers and images must be embedded (data URIs or the GLB's BIN chunk).
+std::unique_ptr<Scene> loadGltfFromMemory(const std::string& name, const void* bytes, size_t size,
+                                          std::vector<std::string>* warnings = nullptr);
+
 }  // namespace pl

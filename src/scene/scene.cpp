@@ -116,7 +116,19 @@ Spectrum Scene::totalPower() const {
   return sum;
 }
 
+namespace {
+// What Embree accepts (RayK::valid(): |components| ≤ FLT_LARGE = 1.844e18, no NaN). Debian's
+// Embree asserts on anything else and aborts the process; a ray that overflowed is a miss
+// for intersect() and blocked for occluded() instead.
+bool embreeValid(const Ray& r) {
+  constexpr float kLarge = 1.844e18f;
+  auto ok = [&](const Vec3& v) { return std::abs(v.x) <= kLarge && std::abs(v.y) <= kLarge && std::abs(v.z) <= kLarge; };
+  return ok(r.o) && ok(r.d) && r.tmin >= 0.0f && !(r.tmax != r.tmax);
+}
+}  // namespace
+
 bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
+  if (!embreeValid(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -159,6 +171,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
 }
 
 bool Scene::occluded(const Ray& ray) const {
+  if (!embreeValid(ray)) return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;
