@@ -120,3 +120,24 @@ TEST_CASE("cli: progressive checkpoints after passes 1 - 2 - 4 and the last - wi
   expectCleanFailure("render " + scene + " --checkpoints -o " + dir + "/nope.exr", dir + "/nope.exr", "--checkpoints");
   expectCleanFailure("render " + scene + " --integrator pppm --alpha 0 -o " + dir + "/nope.exr", dir + "/nope.exr", "--alpha");
 }
+
+TEST_CASE("cli: impossible photon counts and resolutions are one-line errors before any work") {
+  GltfFixture f;
+  std::string scene = f.write("cli-memory.gltf"), dir = GltfFixture::dir();
+  ::setenv("PHOTONLAB_MEMORY_LIMIT", "100000000", 1);  // pretend 100 MB are free
+  expectCleanFailure("render " + scene + " --integrator photon --photons 4000000000 -o " + dir + "/m.exr", dir + "/m.exr",
+                     "photon paths: needs");
+  expectCleanFailure("render " + scene + " --width 20000 -o " + dir + "/m.exr", dir + "/m.exr", "20000x20000 image: needs");
+  ::unsetenv("PHOTONLAB_MEMORY_LIMIT");
+}
+
+TEST_CASE("cli: --aov nan writes the non-finite-sample image with its metadata - not for progressive methods") {
+  GltfFixture f;
+  std::string scene = f.write("cli-nan.gltf"), dir = GltfFixture::dir();
+  Result r = run("render " + scene + " --aov nan --width 8 --spp 4 -q -o " + dir + "/nan.exr");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  Result m = run("info " + dir + "/nan.exr");
+  CHECK_THAT(m.out, Contains("\"aov\": \"nan\""));
+  expectCleanFailure("render " + scene + " --integrator sppm --aov nan -o " + dir + "/nan2.exr", dir + "/nan2.exr", "--aov nan");
+}

@@ -38,10 +38,16 @@ void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>&
   uint32_t base = uint32_t(positions_.size());
   bool smooth = !normals.empty();
   for (size_t i = 0; i < positions.size(); ++i) {
-    positions_.push_back(positions[i]);
+    // Coordinates within 1e-30 m of zero are zero. Differences of values near FLT_MIN underflow
+    // under Embree's flush-to-zero mode, and its spatial-split builder asserts on that (found
+    // by fuzzing: a vertex coordinate of 4e-38 aborted the BVH build).
+    Vec3 p = positions[i];
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(p[k]) < 1e-30f) p[k] = 0.0f;
+    positions_.push_back(p);
     normals_.push_back(smooth ? glm::normalize(normals[i]) : Vec3(0.0f));
     uvs_.push_back(uvs.empty() ? Vec2(0.0f) : uvs[i]);
-    bounds_.extend(positions[i]);
+    bounds_.extend(p);
   }
   for (size_t i = 0; i < indices.size(); i += 3) {
     Triangle tri;
