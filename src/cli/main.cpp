@@ -72,6 +72,7 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
       {"scene", scenePath},                  {"max_depth", std::to_string(integratorOptions.maxDepth)},
       {"width", std::to_string(options.width)}, {"height", std::to_string(options.height)}};
   if (options.nanAov) meta["aov"] = "nan";
+  if (options.spectral) meta["spectral"] = "1";
   if (integratorName == "photon") {
     const auto& d = integratorOptions.density;
     meta["photons"] = std::to_string(integratorOptions.photons);
@@ -115,7 +116,8 @@ int cmdRenderProgressive(const std::string& scenePath, const std::vector<std::st
         {"seed", std::to_string(options.seed)},
         {"scene", scenePath},
         {"width", std::to_string(options.width)},
-        {"height", std::to_string(options.height)}};
+        {"height", std::to_string(options.height)},
+        {"spectral", progressive.spectral ? "1" : "0"}};
   };
   CheckpointFn checkpoint;
   if (checkpoints) {
@@ -218,6 +220,8 @@ int main(int argc, char** argv) {
   render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
   render->add_option("--max-depth", integratorOptions.maxDepth, "Maximum number of bounces")->capture_default_str();
   render->add_flag("-q,--quiet", quiet, "No summary line");
+  render->add_flag("--spectral", options.spectral,
+                   "Spectral rendering: paths carry wavelengths, the film integrates the CIE 1931 curves");
   std::string kernelName = "epanechnikov";
   render->add_option("--photons", integratorOptions.photons, "Photon mapping: emitted paths for the global map")
       ->capture_default_str();
@@ -320,6 +324,7 @@ int main(int argc, char** argv) {
         throw Error("--photons/--caustic-photons: must be a count from 0 to 4294967295");
       if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
       options.progress = !quiet;
+      integratorOptions.spectral = progressive.spectral = options.spectral;
       if (isProgressive(integratorName)) {
         progressive.radius = integratorOptions.density.radius;
         progressive.timeLimit = options.timeLimit;

@@ -24,6 +24,7 @@ struct RunKey {
 
 const RunKey kRunKeys[] = {
     {"time", kAll, "budget in seconds"},
+    {"spectral", kAll, "true: spectral rendering (CIE 1931 film)"},
     {"max_depth", kAll, "maximum number of bounces"},
     {"spp", kSpp | kPhoton, "samples per pixel"},
     {"photons", kPhoton, "emitted photon paths for the global map"},
@@ -134,7 +135,10 @@ class Parser {
       if (!(rk->applies & family))
         fail(&node, name, "is not a parameter of integrator " + s->integrator + " (it takes: " + knownKeys(family, alsoAllowed) + ")");
 
-      if (key == "time") {
+      if (key == "spectral") {
+        if (!node.is_boolean()) fail(&node, name, std::string("must be true or false, got ") + typeName(node));
+        s->image.spectral = s->options.spectral = s->progressive.spectral = node.as_boolean()->get();
+      } else if (key == "time") {
         hasTime = true;
         s->image.timeLimit = s->progressive.timeLimit = number(node, name, 0.0, 1e7, false);
       } else if (key == "max_depth") {
@@ -345,6 +349,7 @@ void addSettings(toml::table& t, const RunSettings& s) {
   const unsigned family = familyOf(s.integrator);
   if (s.image.timeLimit > 0) t.insert_or_assign("time", s.image.timeLimit);
   t.insert_or_assign("max_depth", s.options.maxDepth);
+  if (s.image.spectral) t.insert_or_assign("spectral", true);
   if (family == kProgressive) {
     if (s.progressive.passes != INT32_MAX) t.insert_or_assign("passes", s.progressive.passes);
     t.insert_or_assign("photons_per_pass", int64_t(s.progressive.photonsPerPass));

@@ -108,6 +108,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
     m["final_gather"] = std::to_string(s.options.finalGather);
     if (!s.options.aov.empty()) m["aov"] = s.options.aov;
   }
+  if (s.image.spectral) m["spectral"] = "1";
   if (info.interrupted) m["partial"] = "1";
   return m;
 }

@@ -19,6 +19,7 @@ struct IntegratorOptions {
   DensityEstimation density;         // k / radius / max radius / kernel
   int finalGather = 32;              // gather rays per first diffuse hit; 0 = direct visualisation
   std::string aov;                   // "" (radiance), "photons" or "radius"
+  bool spectral = false;             // photons carry wavelengths (with RenderOptions::spectral)
 };
 
 class Integrator {

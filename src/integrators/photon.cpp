@@ -15,6 +15,7 @@ void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads
   t.seed = seed;
   t.threads = threads;
   t.maxDepth = o_.maxDepth;
+  t.spectral = o_.spectral;
   maps_ = tracePhotons(scene, t);
   if (average(scene.totalPower()) <= 0) warnings_.push_back("the lights emit no power: no photons were traced");
   else if (maps_.global.size() == 0 && o_.photons > 0)

@@ -54,7 +54,7 @@ EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection) co
   }
   Vec3 dir = Frame(n).toWorld(sampleCosineHemisphere(u));
   // flux = Le cosθ / (pdf_A · pdf_ω) = Le cosθ · A · π / cosθ (× 2 faces) = Φ.
-  return {Ray{y, dir}, Le_ * (kPi * area_ * sides)};
+  return {Ray{y, dir}, emit(Le_) * (kPi * area_ * sides)};
 }
 
 }  // namespace pl

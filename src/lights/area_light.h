@@ -18,7 +18,7 @@ class AreaLight final : public Light {
   // Radiance leaving the light in direction w (unit, away from the surface).
   Spectrum L(const Vec3& w) const {
     float c = glm::dot(n_, w);
-    return (c > 0 || (twoSided_ && c < 0)) ? Le_ : Spectrum(0.0f);
+    return (c > 0 || (twoSided_ && c < 0)) ? emit(Le_) : Spectrum(0.0f);
   }
   // Solid-angle density of sampleLi() choosing the point y seen from p.
   float pdfLi(const Vec3& p, const Vec3& y) const;

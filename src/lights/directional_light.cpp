@@ -15,7 +15,7 @@ void DirectionalLight::preprocess(const Vec3& center, float radius) {
 bool DirectionalLight::sampleLi(const Vec3&, const Vec2&, LightSample* s) const {
   s->wi = -direction_;
   s->distance = INFINITY;
-  s->Li = E_;
+  s->Li = emit(E_);
   s->pdf = 1.0f;
   return true;
 }
@@ -25,7 +25,7 @@ EmittedRay DirectionalLight::sampleLe(const Vec2& u, const Vec2&) const {
   Frame frame(direction_);
   Vec2 d = sampleConcentricDisc(u) * radius_;
   Vec3 origin = center_ + radius_ * (frame.s * d.x + frame.t * d.y) - direction_ * radius_;
-  return {Ray{origin, direction_}, E_ * (kPi * radius_ * radius_)};
+  return {Ray{origin, direction_}, emit(E_) * (kPi * radius_ * radius_)};
 }
 
 }  // namespace pl

@@ -3,6 +3,7 @@
 // flux has expectation Φ (photon tracing).
 #pragma once
 #include "core/common.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 
@@ -24,6 +25,9 @@ struct EmittedRay {
 class Light {
  public:
   virtual ~Light() = default;
+  // Colour temperature in kelvin (glTF extras.photonlab.temperature), 0 = none. The loader sets
+  // the RGB colour to the blackbody's; in spectral mode emit() uses Planck's law itself.
+  float temperature = 0.0f;
   virtual Spectrum power() const = 0;
   virtual bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const = 0;
   virtual EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const = 0;
@@ -32,6 +36,15 @@ class Light {
   // Lights that need the scene's extent (directional) are told it once loading is done.
   virtual void preprocess(const Vec3& sceneCenter, float sceneRadius) {}
   virtual const char* name() const = 0;
+
+ protected:
+  // Emission as the path needs it: the RGB value, or in spectral mode (spectral/spectral.h) the
+  // values at the path's wavelengths. Homogeneous of degree 1, so emit(a·c) = a·emit(c).
+  Spectrum emit(const Spectrum& rgb) const {
+    if (!spectralContext().active) return rgb;
+    if (temperature > 0) return (0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z) * blackbodyEmission(temperature);
+    return spectralEmission(rgb);
+  }
 };
 
 }  // namespace pl

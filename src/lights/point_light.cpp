@@ -10,14 +10,14 @@ bool PointLight::sampleLi(const Vec3& p, const Vec2&, LightSample* s) const {
   if (r2 <= 0) return false;
   s->distance = std::sqrt(r2);
   s->wi = d / s->distance;
-  s->Li = I_ / r2;  // inverse-square law
+  s->Li = emit(I_) / r2;  // inverse-square law
   s->pdf = 1.0f;
   return true;
 }
 
 EmittedRay PointLight::sampleLe(const Vec2&, const Vec2& u) const {
   // Uniform directions, pdf 1/4π: flux = I / pdf = 4πI = Φ for every photon.
-  return {Ray{position_, sampleUniformSphere(u)}, 4.0f * kPi * I_};
+  return {Ray{position_, sampleUniformSphere(u)}, 4.0f * kPi * emit(I_)};
 }
 
 }  // namespace pl

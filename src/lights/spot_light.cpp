@@ -37,7 +37,7 @@ bool SpotLight::sampleLi(const Vec3& p, const Vec2&, LightSample* s) const {
   s->wi = d / s->distance;
   float a = falloff(glm::dot(-s->wi, direction_));
   if (a <= 0) return false;
-  s->Li = I_ * a / r2;
+  s->Li = emit(I_) * a / r2;
   s->pdf = 1.0f;
   return true;
 }
@@ -47,7 +47,7 @@ EmittedRay SpotLight::sampleLe(const Vec2&, const Vec2& u) const {
   Vec3 local = sampleUniformCone(u, cosOuter_);
   float pdf = 1.0f / (2.0f * kPi * (1.0f - cosOuter_));
   Vec3 dir = Frame(direction_).toWorld(local);
-  return {Ray{position_, dir}, I_ * falloff(local.z) / pdf};
+  return {Ray{position_, dir}, emit(I_) * falloff(local.z) / pdf};
 }
 
 }  // namespace pl

@@ -4,6 +4,7 @@
 
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 
@@ -16,7 +17,13 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
 void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
                std::vector<Photon>* out) {
   Rng rng(0);
-  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng);
+  struct EndPath {
+    ~EndPath() { spectralContext().active = false; }
+  } endPath;
+  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral);
+  // What a stored photon carries: its flux in linear sRGB (the film's projection of its
+  // wavelengths' values), so that maps and gathers are the same in both modes.
+  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToRGB(flux, spectralContext().lambda) : flux; };
   Spectrum flux = e.flux;
   if (isBlack(flux) || !isFinite(flux)) return;
   Ray ray = e.ray;
@@ -29,10 +36,10 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     if (!hit.bsdf->isDelta()) {
       Photon::Type type = depth == 0 ? Photon::kDirect : onlySpecular ? Photon::kCaustic : Photon::kIndirect;
       if (causticMode) {
-        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, flux, type, rng.uniform());
+        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, stored(flux), type, rng.uniform());
         return;
       }
-      out->emplace_back(hit.p, wo, flux, type, rng.uniform());
+      out->emplace_back(hit.p, wo, stored(flux), type, rng.uniform());
       onlySpecular = false;
     }
     BSDFSample bs;
@@ -77,8 +84,10 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
 
 }  // namespace
 
-EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng) {
+EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
+                      bool spectral) {
   *rng = Rng::keyed(seed ^ (stream << 32), index, stream);  // photon i's stream: (seed, i, map)
+  if (spectral) beginPath(true, rng->uniform());
   const Distribution1D& lights = scene.lightDistribution();
   if (lights.size() == 0 || lights.total() <= 0) return EmittedRay{Ray{}, Spectrum(0.0f)};
   float pmf;

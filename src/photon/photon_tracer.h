@@ -14,6 +14,9 @@ struct PhotonTracingOptions {
   uint64_t seed = 1;
   int threads = 0;
   int maxDepth = 64;
+  // Photons carry wavelengths (spectral/spectral.h) while they are traced, and are stored with
+  // the linear-sRGB value of their flux: gathers stay in RGB.
+  bool spectral = false;
 };
 
 struct PhotonMaps {
@@ -26,7 +29,9 @@ struct PhotonMaps {
 };
 
 // Emits photon path `index` of `count` (for tests and the tracer): E[flux] = total power / count.
-EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng);
+// With `spectral`, also starts the photon's spectral path (its wavelengths come from its stream).
+EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
+                      bool spectral = false);
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& options);
 

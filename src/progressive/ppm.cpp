@@ -21,13 +21,16 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
       size_t i = y * W + x;
       Rng rng = Rng::keyed(ro.seed, i, 0);
       Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
-      emitted[i] = glm::dvec3(traceVisiblePoint(scene, ray, rng, o.maxDepth, &hitPoints[i]));
+      if (o.spectral) beginPath(true, rng.uniform());
+      Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &hitPoints[i]);
+      finishSpectralVisiblePoint(&hitPoints[i], &L);
+      emitted[i] = glm::dvec3(L);
       stats[i].R2 = double(r0) * r0;
     }
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         size_t i = y * W + x;

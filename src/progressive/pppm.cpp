@@ -17,7 +17,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
   int passesDone = 0;
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
@@ -28,11 +28,16 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
+        Vec3 lambda = o.spectral ? beginPath(true, rng.uniform()) : Vec3(0.0f);
         VisiblePoint vp;
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
         if (vp.valid) {
           L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
-          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);
+          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);  // uplifted on a spectral path
+        }
+        if (o.spectral) {
+          L = spectralToRGB(L, lambda);
+          spectralContext().active = false;
         }
         if (isFinite(L)) sum[i] += glm::dvec3(L);  // a non-finite sample is dropped, never accumulated
       }

@@ -2,6 +2,7 @@
 
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "spectral/spectral.h"
 
 #include "progressive/ppm.h"
 #include "progressive/pppm.h"
@@ -94,13 +95,23 @@ PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const Pr
   return s;
 }
 
-PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth) {
+void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L) {
+  SpectralContext& ctx = spectralContext();
+  if (!ctx.active) return;
+  *L = spectralToRGB(*L, ctx.lambda);
+  if (vp->valid) vp->beta = spectralToRGB(vp->beta * spectralEmission(Spectrum(1.0f)), ctx.lambda);
+  ctx.active = false;
+}
+
+PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
+                            bool spectral) {
   PhotonTracingOptions o;
   o.globalPaths = photons;
   o.causticPaths = 0;
   o.seed = mix64(seed * 0x9e3779b97f4a7c15ULL + uint64_t(pass));
   o.threads = threads;
   o.maxDepth = maxDepth;
+  o.spectral = spectral;
   return tracePhotons(scene, o);
 }
 

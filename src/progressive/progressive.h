@@ -21,6 +21,7 @@ struct ProgressiveOptions {
   float radius = 0.0f;               // initial radius; 0 = defaultRadius()
   double timeLimit = 0.0;            // stop at the first pass boundary after this (seconds)
   int maxDepth = 64;
+  bool spectral = false;             // --spectral: see spectral/spectral.h
 };
 
 struct PassInfo {
@@ -102,7 +103,12 @@ struct PassSetup {
 PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
 
 // Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass).
-PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth);
+PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
+                            bool spectral = false);
+
+// In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light
+// through the specular chain, so that gathers (in RGB) can use it; then the path ends.
+void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
 
 inline bool isCheckpoint(int pass) { return pass > 0 && (pass & (pass - 1)) == 0; }  // 1, 2, 4, 8, ...
 

@@ -25,17 +25,19 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = scene.camera().generateRay(x + rng.uniform(), y + rng.uniform(), W, H);
+        if (o.spectral) beginPath(true, rng.uniform());
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
         if (vp.valid) {
           Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
           if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
         }
+        finishSpectralVisiblePoint(&vp, &L);
         directSum[i] += glm::dvec3(L);
       }
     });
     // 2. Photon pass, 3. gather at the visible points (direct light came from shadow rays).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {

@@ -8,6 +8,7 @@
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 
@@ -89,7 +90,14 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
         Rng rng = Rng::keyed(o.seed, pixel, uint64_t(s));
         float jx = rng.uniform(), jy = rng.uniform();
         Ray ray = scene.camera().generateRay(x + jx, float(y) + jy, W, H);
-        Spectrum L = integrator.Li(ray, scene, rng);
+        Spectrum L;
+        if (o.spectral) {
+          Vec3 lambda = beginPath(true, rng.uniform());
+          L = spectralToRGB(integrator.Li(ray, scene, rng), lambda);
+          spectralContext().active = false;
+        } else {
+          L = integrator.Li(ray, scene, rng);
+        }
         if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
           ++nonFinite[y];
           if (o.nanAov) ++nanCount[pixel];

@@ -21,6 +21,9 @@ struct RenderOptions {
   // --aov nan: instead of radiance, each pixel holds the fraction of its samples that were
   // non-finite (NaN or ±Inf) and discarded; 0 everywhere in a healthy render.
   bool nanAov = false;
+  // --spectral: paths carry wavelengths and the film integrates against the CIE 1931 curves
+  // (spectral/spectral.h). The integrator must have been made with spectral options too.
+  bool spectral = false;
   // Called with the estimate so far after 1, 2, 4, 8, ... samples per pixel and after the last
   // one; the time it takes is not counted in RenderStats::seconds nor against timeLimit.
   std::function<void(const ImageRGB&, const RenderStats&)> checkpoint;

@@ -19,6 +19,7 @@
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 namespace {
@@ -359,6 +360,12 @@ class Loader {
     if (auto* ext = extension(m.extensions, "KHR_materials_ior")) getNumber(*ext, "ior", &ior);
     if (!(ior >= 1.0 && ior < 10.0) && ior != 0.0) fail(el + ".KHR_materials_ior.ior", "must be in [1, 10)");
     if (ior == 0.0) ior = 1.5;  // the extension allows 0 as "unset"
+    double dispersion = 0.0;  // KHR_materials_dispersion: 20/V_d (Abbe number); 0 = none
+    if (auto* ext = extension(m.extensions, "KHR_materials_dispersion")) {
+      if (ext->Has("dispersion") && !getNumber(*ext, "dispersion", &dispersion))
+        fail(el + ".KHR_materials_dispersion.dispersion", "must be a number");
+      if (!(dispersion >= 0.0 && dispersion <= 20.0)) fail(el + ".KHR_materials_dispersion.dispersion", "must be in [0, 20]");
+    }
 
     const tinygltf::Value* extras = photonlabExtras(m.extras);
     if (extras && extras->IsObject() && extras->Has("phong")) {
@@ -374,7 +381,7 @@ class Loader {
       if (!(n >= 0 && n < 1e6f)) fail(pel + ".exponent", "must be in [0, 1e6)");
       out.bsdf = std::make_unique<Phong>(kd, ks, n);
     } else if (transmission > 0 && thickness > 0) {
-      out.bsdf = std::make_unique<Dielectric>(float(ior));
+      out.bsdf = std::make_unique<Dielectric>(float(ior), dispersion > 0 ? float(20.0 / dispersion) : 0.0f);
     } else if (metallic == 1.0f && roughness == 0.0f) {
       out.bsdf = std::make_unique<Mirror>(base);
     } else if (metallic == 1.0f) {
@@ -465,35 +472,48 @@ class Loader {
     if (!(intensity >= 0 && std::isfinite(intensity))) fail(el + ".intensity", "must be finite and ≥ 0");
     Spectrum I = color * intensity;  // W/sr (directional: W/m²)
 
-    double power = -1, warn = -1;
+    double power = -1, warn = -1, temperature = 0;
     if (const tinygltf::Value* ex = photonlabExtras(l.extras)) {
+      if (ex->Has("temperature") && !(getNumber(*ex, "temperature", &temperature) && temperature >= 100 && temperature <= 1e5))
+        fail(el + ".extras.photonlab.temperature", "must be a temperature in kelvin, from 100 to 100000");
       if (ex->Has("power") && !getNumber(*ex, "power", &power)) fail(el + ".extras.photonlab.power", "must be a number");
       if (ex->Has("warn_exponent") && !getNumber(*ex, "warn_exponent", &warn))
         fail(el + ".extras.photonlab.warn_exponent", "must be a number");
       if (ex->Has("power") && !(power >= 0 && std::isfinite(power))) fail(el + ".extras.photonlab.power", "must be ≥ 0");
       if (ex->Has("warn_exponent") && !(warn >= 0 && warn < 1e6)) fail(el + ".extras.photonlab.warn_exponent", "must be in [0, 1e6)");
     }
+    if (temperature > 0) {
+      // A blackbody's colour at luminance 1, like white (1, 1, 1): intensity and power keep
+      // their meaning. It replaces `color`.
+      if (l.color.size() >= 3 && color != Spectrum(1.0f)) this->warn(el + ": color is replaced by the blackbody colour of extras.photonlab.temperature");
+      color = blackbodyRGB(temperature);
+      I = color * intensity;
+    }
+    auto add = [&](std::unique_ptr<Light> light) {
+      light->temperature = float(temperature);
+      scene_->addLight(std::move(light));
+    };
     Spectrum flux = color * float(power);  // `power` is the flux of a white light; colour scales it
     Vec3 position(world * glm::vec4(0, 0, 0, 1));
     Vec3 direction = glm::normalize(Vec3(world * glm::vec4(0, 0, -1, 0)));
     if (!isFinite(position) || !isFinite(direction)) fail(el, "degenerate light transform");
 
     if (l.type == "point") {
-      scene_->addLight(std::make_unique<PointLight>(position, power >= 0 ? PointLight::intensityForPower(flux) : I));
+      add(std::make_unique<PointLight>(position, power >= 0 ? PointLight::intensityForPower(flux) : I));
     } else if (l.type == "spot") {
       if (warn >= 0) {
         float s = float(warn);
-        scene_->addLight(std::make_unique<WarnSpotlight>(position, direction,
+        add(std::make_unique<WarnSpotlight>(position, direction,
                                                          power >= 0 ? WarnSpotlight::cForPower(flux, s) : I, s));
         return;
       }
       float inner = float(l.spot.innerConeAngle), outer = float(l.spot.outerConeAngle);
       if (!(inner >= 0 && inner < outer && outer <= kPi / 2 + 1e-6f))
         fail(el + ".spot", "need 0 ≤ innerConeAngle < outerConeAngle ≤ π/2");
-      scene_->addLight(std::make_unique<SpotLight>(
+      add(std::make_unique<SpotLight>(
           position, direction, power >= 0 ? SpotLight::intensityForPower(flux, inner, outer) : I, inner, outer));
     } else if (l.type == "directional") {
-      scene_->addLight(std::make_unique<DirectionalLight>(direction, power >= 0 ? color : I, float(power)));
+      add(std::make_unique<DirectionalLight>(direction, power >= 0 ? color : I, float(power)));
     } else {
       fail(el + ".type", "unknown light type '" + l.type + "'");
     }

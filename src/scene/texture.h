@@ -3,6 +3,7 @@
 #include <memory>
 #include <vector>
 #include "core/common.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 
@@ -16,7 +17,9 @@ class ColorTexture {
   ColorTexture(const Spectrum& factor = Spectrum(1.0f), std::shared_ptr<const Image> image = nullptr)
       : factor_(factor), image_(std::move(image)) {}
 
-  Spectrum eval(const Vec2& uv) const {
+  // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h).
+  Spectrum eval(const Vec2& uv) const { return spectralReflectance(evalRGB(uv)); }
+  Spectrum evalRGB(const Vec2& uv) const {
     if (!image_) return factor_;
     // Bilinear lookup with repeat wrapping (the glTF default sampler).
     float x = (uv.x - std::floor(uv.x)) * image_->width - 0.5f;

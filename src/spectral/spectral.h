@@ -1,0 +1,97 @@
+// Spectral rendering support (--spectral): RGB-to-spectrum uplift, the wavelengths a path
+// carries, and the film's projection of spectral samples back to linear sRGB.
+//
+// A path in spectral mode carries three wavelengths λ₀ + k·Δ/3 (k = 0, 1, 2, wrapped into
+// 360–830 nm, Δ = 470 nm; λ₀ uniform): the hero-wavelength scheme of Wilkie et al. 2014 with 3
+// wavelengths instead of 4, so that the renderer's Spectrum (three floats) holds the path's
+// values at its wavelengths unchanged. Each wavelength is uniformly distributed, so the film's
+// estimate ∫ L(λ) x̄(λ) dλ ≈ Δ/3 · Σₖ L(λₖ) x̄(λₖ) is unbiased. A dispersive refraction keeps the
+// hero wavelength only (its value × 3, the others 0), as in pbrt-v4.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "core/common.h"
+#include "spectral/cie.h"
+
+namespace pl {
+
+// The sampled wavelengths of the path being traced on this thread. Integrators do not pass it
+// around: textures, lights and dielectrics consult it (it is inactive in RGB mode).
+struct SpectralContext {
+  bool active = false;
+  Vec3 lambda{550.0f};         // nm
+  bool heroOnly = false;       // after a dispersive refraction: only lambda.x carries a value
+};
+SpectralContext& spectralContext();  // thread-local
+
+// Evaluates in RGB for its lifetime (photon-map gathers: photons hold RGB flux), then restores
+// the path's spectral state.
+class RGBScope {
+ public:
+  RGBScope() : saved_(spectralContext()) { spectralContext().active = false; }
+  ~RGBScope() { spectralContext() = saved_; }
+  RGBScope(const RGBScope&) = delete;
+  RGBScope& operator=(const RGBScope&) = delete;
+
+ private:
+  SpectralContext saved_;
+};
+
+// Starts a spectral path: activates the context with wavelengths from `u` (or deactivates it
+// when `spectral` is false). Returns the wavelengths.
+inline Vec3 beginPath(bool spectral, float u);
+
+// Sets the three wavelengths from one uniform number (stratified rotation of λ₀).
+Vec3 sampleWavelengths(float u);
+
+inline Vec3 beginPath(bool spectral, float u) {
+  SpectralContext& ctx = spectralContext();
+  ctx.active = spectral;
+  ctx.heroOnly = false;
+  if (spectral) ctx.lambda = sampleWavelengths(u);
+  return ctx.lambda;
+}
+
+// ∫ D65 ȳ dλ over the 1 nm table: the white illuminant's normalisation, so that an emitter of
+// RGB (1, 1, 1) has luminance Y = 1 in spectral mode as in RGB mode.
+double d65Luminance();
+
+// The linear sRGB of a spectral radiance sample: Δ/3 · Σₖ v_k · W(λₖ), with W = the
+// D65-white-normalised XYZ→sRGB projection of the matching functions.
+Spectrum spectralToRGB(const Spectrum& values, const Vec3& lambda);
+
+// Reflectance spectrum for an RGB albedo in [0, 1]³, in [0, 1] at every wavelength, whose sRGB
+// under D65 is that RGB (the round trip is exact up to the fit of the 9³ grid's nodes).
+// Built on first use (about 0.3 s): trilinear interpolation between node spectra, each a
+// sigmoid-polynomial σ(c₀t² + c₁t + c₂) fitted as Jakob & Hanika (2019) do. Interpolating
+// between nodes keeps both properties: RGB is linear in the spectrum, and convex combinations
+// of [0, 1] spectra stay in [0, 1].
+class RGBUplift {
+ public:
+  static const RGBUplift& instance();
+  float reflectance(const Vec3& rgb, float lambda) const;
+  // sRGB (D65-normalised) of a reflectance tabulated at the 471 1-nm samples.
+  Vec3 rgbOfReflectance(const std::vector<float>& spectrum) const;
+  float nodeError() const { return worstNodeError_; }  // worst RGB error of a grid node's fit
+
+  static constexpr int kGrid = 9;
+
+ private:
+  RGBUplift();
+  std::vector<float> fitNode(const Vec3& rgb) const;
+  std::vector<float> nodes_;   // kGrid³ × kCieSamples
+  std::array<Vec3, kCieSamples> projection_;  // RGB per unit reflectance at each 1 nm sample
+  float worstNodeError_ = 0.0f;
+};
+
+// What textures and lights call: in spectral mode, the value at the context's wavelengths;
+// in RGB mode, `rgb` unchanged.
+Spectrum spectralReflectance(const Spectrum& rgb);  // albedos, clamped to [0, 1]
+Spectrum spectralEmission(const Spectrum& rgb);     // radiance, intensity, flux: max·ρ(rgb/max)·D65/Y
+// Blackbody of temperature T scaled to luminance Y = 1 (so a light's intensity keeps its
+// meaning), at the context's wavelengths; and its linear sRGB for RGB mode.
+Spectrum blackbodyEmission(double kelvin);
+Vec3 blackbodyRGB(double kelvin);
+
+}  // namespace pl
