@@ -46,7 +46,7 @@ class Gltf:
         return len(self.doc["accessors"]) - 1
 
     def material(self, name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0, emission=None,
-                 glass_ior=None, double_sided=False, extras=None):
+                 glass_ior=None, double_sided=False, extras=None, dispersion=None):
         m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
                                                     "metallicFactor": metallic, "roughnessFactor": roughness}}
         if double_sided:
@@ -63,6 +63,9 @@ class Gltf:
             ext["KHR_materials_volume"] = {"thicknessFactor": 1.0}
             ext["KHR_materials_ior"] = {"ior": glass_ior}
             self.extensions.update(["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior"])
+            if dispersion is not None:
+                ext["KHR_materials_dispersion"] = {"dispersion": dispersion}
+                self.extensions.add("KHR_materials_dispersion")
         if extras:
             m["extras"] = {"photonlab": extras}
         self.doc["materials"].append(m)
@@ -246,6 +249,42 @@ def glass_caustic():
     return g
 
 
+def prism():
+    """White light through a dispersive glass prism onto a white wall (issue: spectral mode).
+    Equilateral prism (apex 60°) with n_d = 1.6 and Abbe number V_d = 20 (dispersion = 20/V_d = 1),
+    its axis along z. The spot light's beam meets the left face at the angle of minimum
+    deviation for the d line, δ = 2·asin(n·sin 30°) − 60° = 46.3°: inside, the beam runs parallel
+    to the base and leaves 23.1° below the horizontal towards the wall at x = 2."""
+    g = Gltf()
+    white = g.material("white", (0.8, 0.8, 0.8))
+    grey = g.material("grey", (0.3, 0.3, 0.3))
+    g.mesh("floor", *quads([[[-3, 0, -1.5], [-3, 0, 2], [2, 0, 2], [2, 0, -1.5]]]), grey)
+    g.mesh("wall", *quads([[[2, 0, -1.5], [2, 0, 2], [2, 2, 2], [2, 2, -1.5]]]), white)
+    g.mesh("back wall", *quads([[[-3, 0, -1.5], [2, 0, -1.5], [2, 2, -1.5], [-3, 2, -1.5]]]), grey)
+    s, y0, zh = 0.6, 0.8, 0.4
+    h = s * math.sqrt(3) / 2
+    a, b, c = [-s / 2, y0], [s / 2, y0], [0.0, y0 + h]  # base left, base right, apex (x, y)
+    corners = [[p[0], p[1], z] for z in (zh, -zh) for p in (a, b, c)]  # 0-2 front (z+), 3-5 back
+    A, B, C, A2, B2, C2 = range(6)
+    tris = [A, B, C, A2, C2, B2,            # front and back caps (outward: +z, -z)
+            A, C, C2, A, C2, A2,            # left face
+            B, B2, C2, B, C2, C,            # right face
+            A, A2, B2, A, B2, B]            # base (outward: -y)
+    glass = g.material("flint glass", (1, 1, 1), glass_ior=1.6, dispersion=1.0)
+    g.mesh("prism", corners, tris, glass)
+    # The beam: aimed at the left face's centre along 23.13° above the horizontal.
+    theta = math.radians((46.26 + 60.0) / 2 - 30.0)
+    face = [(a[0] + c[0]) / 2, (a[1] + c[1]) / 2, 0.0]
+    d = [math.cos(theta), math.sin(theta), 0.0]
+    pos = [face[i] - 2.0 * d[i] for i in range(3)]
+    g.light({"name": "beam", "type": "spot", "color": [1, 1, 1], "intensity": 4000.0,
+             "spot": {"innerConeAngle": 0.01, "outerConeAngle": 0.015}}, pos, face)
+    # A dim fill light above, so the room and the prism are not black.
+    g.light({"name": "fill", "type": "point", "color": [1, 1, 1], "intensity": 0.4}, [0.5, 1.9, 1.2])
+    g.camera([1.0, 0.8, 1.5], [1.5, 0.45, 0.0], 0.75, aspect=4 / 3)
+    return g
+
+
 def furnace(Le=1.0, albedo=0.5):
     """Closed diffuse sphere, every point emitting Le with albedo rho: L = Le / (1 - rho)."""
     g = Gltf()
@@ -257,7 +296,7 @@ def furnace(Le=1.0, albedo=0.5):
 
 
 SCENES = {"cornell-box": cornell_box, "cornell-spheres": cornell_spheres,
-          "glass-caustic": glass_caustic, "furnace": furnace}
+          "glass-caustic": glass_caustic, "furnace": furnace, "prism": prism}
 
 if __name__ == "__main__":
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")

@@ -217,7 +217,7 @@ Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimati
   Spectrum sum(0.0f);
   for (size_t i = 0; i < used; ++i) {
     const Photon& p = tree_->photons[neighbours[i].index];
-    sum += weight(p) * p.flux() * kernelWeight(de.kernel, neighbours[i].d2, r2);
+    sum += weight(p) * flux(p) * kernelWeight(de.kernel, neighbours[i].d2, r2);
   }
   if (stats) {
     stats->photons = int(used);
@@ -225,6 +225,8 @@ Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimati
   }
   return sum;
 }
+
+Spectrum PhotonMap::xyzFluxToRGB(const Vec3& xyz) { return spectralXYZToRGB(xyz); }
 
 Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const DensityEstimation& de, uint8_t accept,
                              GatherStats* stats) const {

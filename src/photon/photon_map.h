@@ -36,6 +36,11 @@ class PhotonMap {
   void build(std::vector<std::vector<Photon>> chunks);
   size_t size() const;
   const std::vector<Photon>& photons() const;
+  // Spectral photon maps store CIE XYZ flux (never negative, unlike a single spectral sample's
+  // sRGB, which the shared-exponent encoding could not hold); flux() hands back linear sRGB.
+  void setFluxIsXYZ(bool xyz) { fluxIsXYZ_ = xyz; }
+  Spectrum flux(const Photon& p) const { return fluxIsXYZ_ ? xyzFluxToRGB(p.flux()) : p.flux(); }
+  static Spectrum xyzFluxToRGB(const Vec3& xyz);
   size_t memoryBytes() const;
 
   // Neighbours of x whose incident direction lies on the side of `n` (dot(wi, n) > 0; pass a
@@ -58,6 +63,7 @@ class PhotonMap {
                       GatherStats* stats = nullptr) const;
 
  private:
+  bool fluxIsXYZ_ = false;
   template <typename Weight>
   Spectrum estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
                     GatherStats* stats, Weight&& weight) const;

@@ -21,9 +21,9 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     ~EndPath() { spectralContext().active = false; }
   } endPath;
   EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral);
-  // What a stored photon carries: its flux in linear sRGB (the film's projection of its
-  // wavelengths' values), so that maps and gathers are the same in both modes.
-  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToRGB(flux, spectralContext().lambda) : flux; };
+  // What a stored photon carries: in spectral mode the XYZ of its wavelengths' values (the map
+  // converts to linear sRGB when it reads them), so that gathers are the same in both modes.
+  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToXYZ(flux, spectralContext().lambda) : flux; };
   Spectrum flux = e.flux;
   if (isBlack(flux) || !isFinite(flux)) return;
   Ray ray = e.ray;
@@ -78,6 +78,7 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   auto t1 = std::chrono::steady_clock::now();
   PhotonMap map;
   map.build(std::move(buffers));  // chunks in order: the same map whatever the thread count
+  map.setFluxIsXYZ(o.spectral);
   stats->buildSeconds += since(t1);
   return map;
 }

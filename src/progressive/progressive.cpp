@@ -59,7 +59,7 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   for (const Neighbour& nb : found) {
     const Photon& ph = map.photons()[nb.index];
     Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
-    phi += glm::dvec3(vp.beta * f * ph.flux()) * photonsPerPass;  // stored flux is Φ/(pmf·M)
+    phi += glm::dvec3(vp.beta * f * map.flux(ph)) * photonsPerPass;  // stored flux is Φ/(pmf·M)
   }
   // The statistics persist over all passes: one non-finite BSDF value would poison the pixel
   // for good, so such a pass's photons are dropped at this point (the radius does not shrink).
@@ -99,7 +99,11 @@ void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L) {
   SpectralContext& ctx = spectralContext();
   if (!ctx.active) return;
   *L = spectralToRGB(*L, ctx.lambda);
-  if (vp->valid) vp->beta = spectralToRGB(vp->beta * spectralEmission(Spectrum(1.0f)), ctx.lambda);
+  // A flat β (no coloured or dispersive surface on the way: the common case) is grey exactly;
+  // otherwise the colour of white light through the chain is estimated at the path's wavelengths.
+  const Spectrum& b = vp->beta;
+  if (vp->valid && (ctx.heroOnly || b.x != b.y || b.y != b.z))
+    vp->beta = spectralToRGB(b * spectralEmission(Spectrum(1.0f)), ctx.lambda);
   ctx.active = false;
 }
 

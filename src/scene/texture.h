@@ -1,5 +1,6 @@
 // A colour that may vary over the surface: factor × texel (glTF's baseColorFactor × texture).
 #pragma once
+#include <cmath>
 #include <memory>
 #include <vector>
 #include "core/common.h"
@@ -15,10 +16,20 @@ struct Image {
 class ColorTexture {
  public:
   ColorTexture(const Spectrum& factor = Spectrum(1.0f), std::shared_ptr<const Image> image = nullptr)
-      : factor_(factor), image_(std::move(image)) {}
+      : factor_(factor), image_(std::move(image)), spectrum_(image_ ? nullptr : std::make_shared<LazySpectrum>()) {}
 
-  // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h).
-  Spectrum eval(const Vec2& uv) const { return spectralReflectance(evalRGB(uv)); }
+  // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h);
+  // a constant colour's spectrum is tabulated once.
+  Spectrum eval(const Vec2& uv) const {
+    const SpectralContext& ctx = spectralContext();
+    if (!ctx.active) return evalRGB(uv);
+    if (!spectrum_) return spectralReflectance(evalRGB(uv));
+    const auto& table = spectrum_->get([&](LazySpectrum::Table& t) {
+      const RGBUplift& u = RGBUplift::instance();
+      for (int i = 0; i < kCieSamples; ++i) t[i] = u.reflectance(factor_, kLambdaMin + float(i));
+    });
+    return LazySpectrum::at(table, ctx.lambda);
+  }
   Spectrum evalRGB(const Vec2& uv) const {
     if (!image_) return factor_;
     // Bilinear lookup with repeat wrapping (the glTF default sampler).
@@ -41,6 +52,7 @@ class ColorTexture {
  private:
   Spectrum factor_;
   std::shared_ptr<const Image> image_;
+  std::shared_ptr<const LazySpectrum> spectrum_;  // shared by copies of a constant texture
 };
 
 }  // namespace pl

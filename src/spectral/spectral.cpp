@@ -69,12 +69,16 @@ Vec3 sampleWavelengths(float u) {
 
 double d65Luminance() { return projection().yD65; }
 
-Spectrum spectralToRGB(const Spectrum& v, const Vec3& lambda) {
+Vec3 spectralToXYZ(const Spectrum& v, const Vec3& lambda) {
   Vec3 xyz(0.0f);
   for (int k = 0; k < 3; ++k) xyz += v[k] * cieXYZ(lambda[k]);
   // Δ/3 per wavelength sample (pdf 1/Δ each, three of them), per unit of the D65 luminance.
-  return projection().rgb(xyz * float(kRange / 3.0 / projection().yD65));
+  return xyz * float(kRange / 3.0 / projection().yD65);
 }
+
+Spectrum spectralXYZToRGB(const Vec3& xyz) { return projection().rgb(xyz); }
+
+Spectrum spectralToRGB(const Spectrum& v, const Vec3& lambda) { return spectralXYZToRGB(spectralToXYZ(v, lambda)); }
 
 // ---------- RGB uplift ----------
 
@@ -184,13 +188,23 @@ float RGBUplift::reflectance(const Vec3& rgbIn, float lambda) const {
     i0[k] = std::min(int(g[k]), n - 2);
     t[k] = g[k] - float(i0[k]);
   }
-  float sum = 0.0f;
-  for (int corner = 0; corner < 8; ++corner) {
-    int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
-    float w = (a ? t[0] : 1 - t[0]) * (b ? t[1] : 1 - t[1]) * (c ? t[2] : 1 - t[2]);
-    if (w == 0.0f) continue;
-    const float* node = &nodes_[((size_t(i0[0] + a) * n + (i0[1] + b)) * n + (i0[2] + c)) * kCieSamples];
-    sum += w * ((1.0f - lt) * node[li] + lt * node[li + 1]);
+  // Tetrahedral (Kuhn) interpolation: the cell splits into 6 tetrahedra along its diagonal; the
+  // 4 weights are barycentric, so RGB (linear in the spectrum) is reproduced exactly, spectra stay
+  // in [0, 1], and a grey uses only grey nodes, so it stays flat.
+  int order[3] = {0, 1, 2};
+  if (t[order[0]] < t[order[1]]) std::swap(order[0], order[1]);
+  if (t[order[1]] < t[order[2]]) std::swap(order[1], order[2]);
+  if (t[order[0]] < t[order[1]]) std::swap(order[0], order[1]);
+  int idx[3] = {i0[0], i0[1], i0[2]};
+  auto node = [&]() { return &nodes_[((size_t(idx[0]) * n + idx[1]) * n + idx[2]) * kCieSamples]; };
+  auto value = [&](const float* s) { return (1.0f - lt) * s[li] + lt * s[li + 1]; };
+  float sum = (1.0f - t[order[0]]) * value(node());
+  float previous = t[order[0]];
+  for (int k = 0; k < 3; ++k) {
+    ++idx[order[k]];
+    float next = k < 2 ? t[order[k + 1]] : 0.0f;
+    sum += (previous - next) * value(node());
+    previous = next;
   }
   return sum;
 }

@@ -9,6 +9,7 @@
 // hero wavelength only (its value × 3, the others 0), as in pbrt-v4.
 #pragma once
 #include <array>
+#include <mutex>
 #include <vector>
 
 #include "core/common.h"
@@ -60,13 +61,16 @@ double d65Luminance();
 // The linear sRGB of a spectral radiance sample: Δ/3 · Σₖ v_k · W(λₖ), with W = the
 // D65-white-normalised XYZ→sRGB projection of the matching functions.
 Spectrum spectralToRGB(const Spectrum& values, const Vec3& lambda);
+// The same in two steps: the sample's XYZ (never negative for non-negative values), then sRGB.
+Vec3 spectralToXYZ(const Spectrum& values, const Vec3& lambda);
+Spectrum spectralXYZToRGB(const Vec3& xyz);
 
 // Reflectance spectrum for an RGB albedo in [0, 1]³, in [0, 1] at every wavelength, whose sRGB
 // under D65 is that RGB (the round trip is exact up to the fit of the 9³ grid's nodes).
-// Built on first use (about 0.3 s): trilinear interpolation between node spectra, each a
+// Built on first use (about 0.6 s): tetrahedral interpolation between node spectra, each a
 // sigmoid-polynomial σ(c₀t² + c₁t + c₂) fitted as Jakob & Hanika (2019) do. Interpolating
 // between nodes keeps both properties: RGB is linear in the spectrum, and convex combinations
-// of [0, 1] spectra stay in [0, 1].
+// of [0, 1] spectra stay in [0, 1]. Greys are flat spectra.
 class RGBUplift {
  public:
   static const RGBUplift& instance();
@@ -83,6 +87,30 @@ class RGBUplift {
   std::vector<float> nodes_;   // kGrid³ × kCieSamples
   std::array<Vec3, kCieSamples> projection_;  // RGB per unit reflectance at each 1 nm sample
   float worstNodeError_ = 0.0f;
+};
+
+// A spectrum tabulated at the 471 1-nm samples, built on first use (thread-safe): per-object
+// constants (a texture's colour, a light's emission) are uplifted once, not at every lookup.
+class LazySpectrum {
+ public:
+  using Table = std::array<float, kCieSamples>;
+  template <typename Build>
+  const Table& get(Build&& build) const {
+    std::call_once(once_, [&] { build(table_); });
+    return table_;
+  }
+  static float at(const Table& t, float lambda) {
+    float x = lambda - kLambdaMin;
+    if (!(x >= 0.0f) || x > float(kCieSamples - 1)) return 0.0f;
+    int i = std::min(int(x), kCieSamples - 2);
+    float f = x - float(i);
+    return (1.0f - f) * t[i] + f * t[i + 1];
+  }
+  static Spectrum at(const Table& t, const Vec3& lambda) { return Spectrum(at(t, lambda.x), at(t, lambda.y), at(t, lambda.z)); }
+
+ private:
+  mutable std::once_flag once_;
+  mutable Table table_{};
 };
 
 // What textures and lights call: in spectral mode, the value at the context's wavelengths;
