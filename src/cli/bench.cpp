@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
+#include "spectral/spectral.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -55,12 +56,15 @@ struct PathRate {
   double samplesPerSecond, raysPerSecond;
 };
 
-PathRate pathTracerRate(const Scene& scene, int threads, int spp) {
-  auto integrator = makeIntegrator("path", IntegratorOptions{});
+PathRate pathTracerRate(const Scene& scene, int threads, int spp, bool spectral = false) {
+  IntegratorOptions io;
+  io.spectral = spectral;
+  auto integrator = makeIntegrator("path", io);
   RenderOptions o;
   o.width = o.height = 256;
   o.spp = spp;
   o.threads = threads;
+  o.spectral = spectral;
   uint64_t rays0 = Scene::raysTraced();
   RenderStats stats;
   render(scene, *integrator, o, &stats);
@@ -154,6 +158,13 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", p1.samplesPerSecond / 1e3, pN.samplesPerSecond / 1e3);
   std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", p1.raysPerSecond / 1e6, pN.raysPerSecond / 1e6);
   std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * p1.raysPerSecond / e1, 100 * pN.raysPerSecond / eN);
+  // Spectral mode on the same scene (the RGB uplift's tables are built before timing).
+  RGBUplift::instance();
+  PathRate s1 = bestOf3([&] { return pathTracerRate(*scene, 1, spp, true); });
+  PathRate sN = bestOf3([&] { return pathTracerRate(*scene, all, spp, true); });
+  std::printf("| path tracer, --spectral (k samples/s) | %.1f | %.1f |\n", s1.samplesPerSecond / 1e3, sN.samplesPerSecond / 1e3);
+  std::printf("| spectral cost: RGB rate / spectral rate | %.2fx | %.2fx |\n", p1.samplesPerSecond / s1.samplesPerSecond,
+              pN.samplesPerSecond / sN.samplesPerSecond);
 
   // Photon mapping.
   TraceRate t1 = bestOf3([&] { return photonTraceRate(*scene, 1, 500000); });
