@@ -8,6 +8,8 @@
 #include "lights/point_light.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
+#include "gltf_fixture.h"
+#include "scene/gltf_loader.h"
 #include "scene_helpers.h"
 #include "spectral/spectral.h"
 
@@ -84,6 +86,28 @@ TEST_CASE("spectral: the film's wavelength estimator is unbiased - emission roun
   CHECK(l.x == Approx(kLambdaMin + 0.9f * 470));
   CHECK(l.y == Approx(kLambdaMin + (0.9f + 1.0f / 3 - 1) * 470));
   CHECK(l.z == Approx(kLambdaMin + (0.9f + 2.0f / 3 - 1) * 470));
+}
+
+TEST_CASE("spectral: the illuminants as emitters - D65 is white - E and a blackbody keep their luminance") {
+  // Through the film, each emitter's spectrum gives back the sRGB colour RGB mode uses.
+  SpectralContext& ctx = spectralContext();
+  const int N = 20000;
+  Vec3 e(0.0f), bb(0.0f);
+  for (int i = 0; i < N; ++i) {
+    beginPath(true, (i + 0.5f) / N);
+    e += spectralToRGB(equalEnergyEmission(), ctx.lambda);
+    bb += spectralToRGB(blackbodyEmission(3200), ctx.lambda);
+  }
+  ctx.active = false;
+  e /= float(N);
+  bb /= float(N);
+  Vec3 eRGB = equalEnergyRGB(), bbRGB = blackbodyRGB(3200);
+  for (int k = 0; k < 3; ++k) {
+    CHECK(e[k] == Approx(eRGB[k]).epsilon(2e-3));
+    CHECK(bb[k] == Approx(bbRGB[k]).epsilon(2e-3));
+  }
+  CHECK(0.2126f * eRGB.x + 0.7152f * eRGB.y + 0.0722f * eRGB.z == Approx(1.0f).epsilon(1e-3));
+  CHECK(eRGB.x > eRGB.z);  // E is pinker than D65's white
 }
 
 TEST_CASE("spectral: Planck's law - Wien's displacement - the blackbody's colour") {
@@ -258,4 +282,43 @@ TEST_CASE("spectral: spectral and RGB mode agree on grey scenes - point light ov
     INFO(name);
     CHECK(mean == Approx(2.0).epsilon(0.04));  // 4 k samples: ~1.5% colour noise (1σ)
   }
+}
+
+TEST_CASE("spectral: the loader reads temperature - illuminant - KHR_materials_dispersion") {
+  GltfFixture f;
+  f.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"temperature", 2700}}}};
+  f.doc["materials"][0]["extensions"] = {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                         {"KHR_materials_volume", {{"thicknessFactor", 1.0}}},
+                                         {"KHR_materials_ior", {{"ior", 1.6}}},
+                                         {"KHR_materials_dispersion", {{"dispersion", 1.0}}}};
+  auto scene = loadGltf(f.write("spectral-extras.gltf"));
+  REQUIRE(scene->lights().size() == 1);
+  CHECK(scene->lights()[0]->temperature == 2700.0f);
+  Spectrum power = scene->lights()[0]->power();
+  Vec3 bb = blackbodyRGB(2700);
+  CHECK(power.x / power.z == Approx(bb.x / bb.z).epsilon(1e-4));  // the blackbody's colour in RGB mode
+  SurfaceHit hit;
+  REQUIRE(scene->intersect(Ray{Vec3(0, 1, 0), Vec3(0, -1, 0)}, &hit));
+  auto* glass = dynamic_cast<const Dielectric*>(hit.bsdf);
+  REQUIRE(glass);
+  CHECK(glass->abbe() == Approx(20.0f));  // dispersion = 20/V_d
+
+  auto error = [](GltfFixture& g, const char* name) {
+    try {
+      loadGltf(g.write(name));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  GltfFixture cold;
+  cold.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"temperature", 50}}}};
+  CHECK_THAT(error(cold, "cold.gltf"), Catch::Matchers::Contains("extras.photonlab.temperature: must be a temperature in kelvin"));
+  GltfFixture bad;
+  bad.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"illuminant", "A"}}}};
+  CHECK_THAT(error(bad, "illuminant.gltf"), Catch::Matchers::Contains("extras.photonlab.illuminant: must be"));
+  GltfFixture e;
+  e.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"illuminant", "E"}}}};
+  auto es = loadGltf(e.write("illuminant-e.gltf"));
+  CHECK(es->lights()[0]->equalEnergy);
 }

@@ -28,6 +28,8 @@ class Light {
   // Colour temperature in kelvin (glTF extras.photonlab.temperature), 0 = none. The loader sets
   // the RGB colour to the blackbody's; in spectral mode emit() uses Planck's law itself.
   float temperature = 0.0f;
+  // The equal-energy illuminant E instead of D65 as the light's spectrum (extras.photonlab.illuminant = "E").
+  bool equalEnergy = false;
   virtual Spectrum power() const = 0;
   virtual bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const = 0;
   virtual EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const = 0;
@@ -44,8 +46,9 @@ class Light {
   Spectrum emit(const Spectrum& rgb) const {
     const SpectralContext& ctx = spectralContext();
     if (!ctx.active) return rgb;
-    float scale = temperature > 0 ? 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z
-                                  : std::max(rgb.x, std::max(rgb.y, rgb.z));
+    const bool byLuminance = temperature > 0 || equalEnergy;  // a fixed spectral shape, scaled
+    float scale = byLuminance ? 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z
+                              : std::max(rgb.x, std::max(rgb.y, rgb.z));
     if (!(scale > 0.0f)) return Spectrum(0.0f);
     const auto& table = emission_.get([&](LazySpectrum::Table& t) {
       unitColour_ = rgb / scale;
@@ -54,13 +57,17 @@ class Light {
         one.active = true;
         one.lambda = Vec3(kLambdaMin + float(i));
         std::swap(one, spectralContext());
-        t[i] = (temperature > 0 ? blackbodyEmission(temperature) : spectralEmission(unitColour_)).x;
+        t[i] = (temperature > 0 ? blackbodyEmission(temperature)
+                : equalEnergy   ? equalEnergyEmission()
+                                : spectralEmission(unitColour_)).x;
         std::swap(one, spectralContext());
       }
     });
     // A light whose colour changes from call to call (none does) would miss the table.
     if (glm::any(glm::greaterThan(glm::abs(rgb / scale - unitColour_), Vec3(1e-5f))))
-      return temperature > 0 ? scale * blackbodyEmission(temperature) : spectralEmission(rgb);
+      return temperature > 0 ? scale * blackbodyEmission(temperature)
+             : equalEnergy   ? scale * equalEnergyEmission()
+                             : spectralEmission(rgb);
     return scale * LazySpectrum::at(table, ctx.lambda);
   }
 

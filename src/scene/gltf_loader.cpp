@@ -473,7 +473,14 @@ class Loader {
     Spectrum I = color * intensity;  // W/sr (directional: W/m²)
 
     double power = -1, warn = -1, temperature = 0;
+    bool equalEnergy = false;
     if (const tinygltf::Value* ex = photonlabExtras(l.extras)) {
+      if (ex->Has("illuminant")) {
+        const tinygltf::Value& il = ex->Get("illuminant");
+        if (!il.IsString() || (il.Get<std::string>() != "D65" && il.Get<std::string>() != "E"))
+          fail(el + ".extras.photonlab.illuminant", "must be \"D65\" (the default) or \"E\" (equal energy)");
+        equalEnergy = il.Get<std::string>() == "E";
+      }
       if (ex->Has("temperature") && !(getNumber(*ex, "temperature", &temperature) && temperature >= 100 && temperature <= 1e5))
         fail(el + ".extras.photonlab.temperature", "must be a temperature in kelvin, from 100 to 100000");
       if (ex->Has("power") && !getNumber(*ex, "power", &power)) fail(el + ".extras.photonlab.power", "must be a number");
@@ -489,8 +496,16 @@ class Loader {
       color = blackbodyRGB(temperature);
       I = color * intensity;
     }
+    if (equalEnergy) {
+      if (temperature > 0) fail(el + ".extras.photonlab", "give temperature or illuminant, not both");
+      // Like a temperature, the illuminant fixes the spectrum: its colour replaces `color`.
+      if (l.color.size() >= 3 && color != Spectrum(1.0f)) this->warn(el + ": color is replaced by the equal-energy illuminant's");
+      color = equalEnergyRGB();
+      I = color * intensity;
+    }
     auto add = [&](std::unique_ptr<Light> light) {
       light->temperature = float(temperature);
+      light->equalEnergy = equalEnergy;
       scene_->addLight(std::move(light));
     };
     Spectrum flux = color * float(power);  // `power` is the flux of a white light; colour scales it

@@ -244,6 +244,14 @@ Spectrum blackbodyEmission(double T) {
   return out;
 }
 
+Spectrum equalEnergyEmission() { return Spectrum(float(d65Luminance() / kCieYIntegral)); }
+
+Vec3 equalEnergyRGB() {
+  double X = 0, Y = 0, Z = 0;
+  for (int i = 0; i < kCieSamples; ++i) X += kCieX[i], Y += kCieY[i], Z += kCieZ[i];
+  return projection().rgb(Vec3(float(X / Y), 1.0f, float(Z / Y)));
+}
+
 Vec3 blackbodyRGB(double T) {
   Vec3 xyz(0.0f);
   double X = 0, Y = 0, Z = 0;

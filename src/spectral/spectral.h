@@ -121,5 +121,9 @@ Spectrum spectralEmission(const Spectrum& rgb);     // radiance, intensity, flux
 // meaning), at the context's wavelengths; and its linear sRGB for RGB mode.
 Spectrum blackbodyEmission(double kelvin);
 Vec3 blackbodyRGB(double kelvin);
+// The equal-energy illuminant E (flat spectrum) at luminance 1, and its linear sRGB (slightly
+// pink next to D65's white).
+Spectrum equalEnergyEmission();
+Vec3 equalEnergyRGB();
 
 }  // namespace pl
