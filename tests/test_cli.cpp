@@ -141,3 +141,17 @@ TEST_CASE("cli: --aov nan writes the non-finite-sample image with its metadata -
   CHECK_THAT(m.out, Contains("\"aov\": \"nan\""));
   expectCleanFailure("render " + scene + " --integrator sppm --aov nan -o " + dir + "/nan2.exr", dir + "/nan2.exr", "--aov nan");
 }
+
+TEST_CASE("cli: --spectral renders with every integrator family and says so in the metadata") {
+  GltfFixture f;
+  std::string scene = f.write("cli-spectral.gltf"), dir = GltfFixture::dir();
+  for (const char* integrator : {"path", "photon", "sppm"}) {
+    std::string out = dir + "/spectral-" + integrator + ".exr";
+    Result r = run("render " + scene + " --spectral --integrator " + integrator +
+                   " --width 8 --spp 2 --passes 2 --photons 2000 --caustic-photons 0 --photons-per-pass 2000 -q -o " + out);
+    INFO(integrator << "\n" << r.err);
+    REQUIRE(r.code == 0);
+    Result m = run("info " + out);
+    CHECK_THAT(m.out, Contains("\"spectral\": \"1\""));
+  }
+}
