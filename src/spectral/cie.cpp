@@ -18,13 +18,13 @@ Vec3 cieXYZ(float lambda) { return Vec3(lerpTable(kCieX, lambda), lerpTable(kCie
 float d65(float lambda) { return lerpTable(kD65, lambda); }
 
 // IEC 61966-2-1 (sRGB), D65 white; the two matrices are each other's inverse to 1e-7.
-Vec3 xyzToLinearSRGB(const Vec3& c) {
+Vec3 XYZToRGB(const Vec3& c) {
   return Vec3(3.2404542f * c.x - 1.5371385f * c.y - 0.4985314f * c.z,
               -0.9692660f * c.x + 1.8760108f * c.y + 0.0415560f * c.z,
               0.0556434f * c.x - 0.2040259f * c.y + 1.0572252f * c.z);
 }
 
-Vec3 linearSRGBToXYZ(const Vec3& c) {
+Vec3 RGBToXYZ(const Vec3& c) {
   return Vec3(0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z,
               0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z,
               0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z);

@@ -18,8 +18,9 @@ Vec3 cieXYZ(float lambda);
 float d65(float lambda);
 
 // sRGB (IEC 61966-2-1) primaries and D65 white, linear: RGB = M·XYZ with Y = 1 for white.
-Vec3 xyzToLinearSRGB(const Vec3& xyz);
-Vec3 linearSRGBToXYZ(const Vec3& rgb);
+// Named as in the course notes (XYZToRGB / RGBToXYZ); RGB here is always linear sRGB.
+Vec3 XYZToRGB(const Vec3& xyz);
+Vec3 RGBToXYZ(const Vec3& rgb);
 
 // Planck's law: spectral radiance of a blackbody at temperature T (kelvin), W/(m²·sr·m), at λ in nm.
 double planck(double lambdaNm, double kelvin);

@@ -24,10 +24,10 @@ struct Projection {
       Z += double(kD65[i]) * kCieZ[i];
     }
     yD65 = Y;
-    Vec3 w = xyzToLinearSRGB(Vec3(float(X / Y), 1.0f, float(Z / Y)));
+    Vec3 w = XYZToRGB(Vec3(float(X / Y), 1.0f, float(Z / Y)));
     whiteScale = Vec3(1.0f) / w;
   }
-  Vec3 rgb(const Vec3& xyz) const { return xyzToLinearSRGB(xyz) * whiteScale; }
+  Vec3 rgb(const Vec3& xyz) const { return XYZToRGB(xyz) * whiteScale; }
 };
 const Projection& projection() {
   static const Projection p;
