@@ -7,7 +7,6 @@ one logarithmic colour scale shared by all runs.
     scripts/compare_images.py results/<name>/ [--out PREFIX]
 
 Writes PREFIX.png and PREFIX.pdf (default results/<name>/comparison)."""
-import argparse
 import os
 import sys
 
@@ -77,26 +76,11 @@ def plot(results_dir, out_prefix):
     if last is not None:
         fig.colorbar(last, ax=list(axes[nrows - 1]), shrink=0.9, label="relative squared error")
     fig.suptitle(f'{config.get("name", "")}: reference and runs')
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{out_prefix}.{ext}.tmp", format=ext, dpi=110)
-        os.replace(f"{out_prefix}.{ext}.tmp", f"{out_prefix}.{ext}")
-    plt.close(fig)
-    return [f"{out_prefix}.png", f"{out_prefix}.pdf"]
+    return er.save_figure(fig, out_prefix)
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("results_dir")
-    p.add_argument("--out", help="output prefix (default RESULTS_DIR/comparison)")
-    a = p.parse_args(argv)
-    try:
-        written = plot(a.results_dir, a.out or os.path.join(a.results_dir, "comparison"))
-    except er.ResultsError as e:
-        print(f"compare_images: {e}", file=sys.stderr)
-        return 2
-    for w in written:
-        print(w)
-    return 0
+    return er.figure_script_main("compare_images", __doc__, plot, "comparison", argv)
 
 
 if __name__ == "__main__":

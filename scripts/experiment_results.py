@@ -3,9 +3,11 @@ the EXR images. Shared by plot_convergence.py, compare_images.py and report.py.
 
 Bad input raises ResultsError with a one-line message naming the file; the scripts print it and
 exit with status 2 instead of showing a traceback."""
+import argparse
 import csv
 import math
 import os
+import sys
 import tomllib
 
 import numpy as np
@@ -114,3 +116,33 @@ def final_rows(rows):
 def geometric_mean(values):
     values = [v for v in values if v > 0 and math.isfinite(v)]
     return math.exp(sum(math.log(v) for v in values) / len(values)) if values else float("nan")
+
+
+def save_figure(fig, out_prefix):
+    """PNG and PDF of a matplotlib figure, each written to a temporary file and renamed into
+    place (never half-written); closes the figure. Returns the two paths."""
+    import matplotlib.pyplot as plt
+    written = []
+    for ext in ("png", "pdf"):
+        fig.savefig(f"{out_prefix}.{ext}.tmp", format=ext, dpi=110)
+        os.replace(f"{out_prefix}.{ext}.tmp", f"{out_prefix}.{ext}")
+        written.append(f"{out_prefix}.{ext}")
+    plt.close(fig)
+    return written
+
+
+def figure_script_main(name, doc, plot, default_stem, argv=None):
+    """The command line of a figure script: `NAME RESULTS_DIR [--out PREFIX]`, errors as one line
+    on stderr and exit status 2, the written paths on stdout."""
+    p = argparse.ArgumentParser(prog=name, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("results_dir")
+    p.add_argument("--out", help=f"output prefix (default RESULTS_DIR/{default_stem})")
+    a = p.parse_args(argv)
+    try:
+        written = plot(a.results_dir, a.out or os.path.join(a.results_dir, default_stem))
+    except ResultsError as e:
+        print(f"{name}: {e}", file=sys.stderr)
+        return 2
+    for w in written:
+        print(w)
+    return 0

@@ -7,7 +7,6 @@ over seeds as a band, and reference slopes −1 (unbiased Monte Carlo: MSE ∝ 1
     scripts/plot_convergence.py results/<name>/ [--out PREFIX]
 
 Writes PREFIX.png and PREFIX.pdf (default results/<name>/convergence)."""
-import argparse
 import os
 import sys
 
@@ -86,26 +85,11 @@ def plot(results_dir, out_prefix):
                 ax.legend(fontsize=8)
     config_name = os.path.basename(os.path.normpath(results_dir))
     fig.suptitle(f"{config_name}: error against the reference")
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{out_prefix}.{ext}.tmp", format=ext, dpi=110)
-        os.replace(f"{out_prefix}.{ext}.tmp", f"{out_prefix}.{ext}")
-    plt.close(fig)
-    return [f"{out_prefix}.png", f"{out_prefix}.pdf"]
+    return er.save_figure(fig, out_prefix)
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("results_dir")
-    p.add_argument("--out", help="output prefix (default RESULTS_DIR/convergence)")
-    a = p.parse_args(argv)
-    try:
-        written = plot(a.results_dir, a.out or os.path.join(a.results_dir, "convergence"))
-    except er.ResultsError as e:
-        print(f"plot_convergence: {e}", file=sys.stderr)
-        return 2
-    for w in written:
-        print(w)
-    return 0
+    return er.figure_script_main("plot_convergence", __doc__, plot, "convergence", argv)
 
 
 if __name__ == "__main__":

@@ -37,12 +37,6 @@ void checkOutputPath(const std::string& path) {
   if (!dir.empty() && !fs::is_directory(dir)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
 }
 
-std::string formatNumber(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 // Interrupted (SIGINT/SIGTERM): the estimate reached so far goes to OUT.partial.exr (never over
 // OUT itself, which a script may take for a finished result), marked partial="1"; exit 130.
 int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image, std::map<std::string, std::string> meta,
@@ -57,87 +51,48 @@ int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image,
   return 130;
 }
 
-int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, const std::string& integratorName,
-              RenderOptions options, IntegratorOptions integratorOptions, bool quiet) {
+// Any integrator: renderRun() dispatches between the per-sample and the progressive ones, and
+// runMetadata() names what was rendered, as `photonlab run` does. With `checkpoints`
+// (progressive only), OUT.pass-NNNN.ext after passes 1, 2, 4, ... and the last.
+int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, RunSettings s, bool checkpoints,
+              bool quiet) {
   for (auto& o : outputs) checkOutputPath(o);
-  auto integrator = makeIntegrator(integratorName, integratorOptions);  // validates the name first
+  if (!isProgressive(s.integrator)) makeIntegrator(s.integrator, s.options);  // validates the name first
   auto scene = loadScene(scenePath);
-  resolveResolution(scene->camera(), options);
-  RenderStats stats;
-  ImageRGB image = render(*scene, *integrator, options, &stats);
-  for (auto& w : integrator->warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  std::map<std::string, std::string> meta = {
-      {"integrator", integratorName},       {"spp", std::to_string(stats.spp)},
-      {"seed", std::to_string(options.seed)}, {"seconds", formatNumber(stats.seconds)},
-      {"scene", scenePath},                  {"max_depth", std::to_string(integratorOptions.maxDepth)},
-      {"width", std::to_string(options.width)}, {"height", std::to_string(options.height)}};
-  if (options.nanAov) meta["aov"] = "nan";
-  if (options.spectral) meta["spectral"] = "1";
-  if (integratorName == "photon") {
-    const auto& d = integratorOptions.density;
-    meta["photons"] = std::to_string(integratorOptions.photons);
-    meta["caustic_photons"] = std::to_string(integratorOptions.causticPhotons);
-    meta["k"] = std::to_string(d.k);
-    meta["radius"] = formatNumber(d.radius);
-    meta["max_radius"] = formatNumber(d.maxRadius);
-    meta["kernel"] = kernelName(d.kernel);
-    meta["final_gather"] = std::to_string(integratorOptions.finalGather);
-    if (!integratorOptions.aov.empty()) meta["aov"] = integratorOptions.aov;
-  }
-  if (stats.interrupted) return writePartial(outputs, image, meta, stats.seconds);
-  for (auto& o : outputs) writeImage(o, image, meta);
-  if (stats.nonFiniteSamples)
-    std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)stats.nonFiniteSamples);
-  if (!quiet)
-    std::fprintf(stderr, "%s: %dx%d, %d spp, %.2f s -> %s\n", integratorName.c_str(), options.width, options.height,
-                 stats.spp, stats.seconds, outputs.front().c_str());
-  return 0;
-}
-
-// ppm, sppm, pppm: passes instead of samples, optional checkpoints along the way.
-int cmdRenderProgressive(const std::string& scenePath, const std::vector<std::string>& outputs, const std::string& name,
-                         RenderOptions options, ProgressiveOptions progressive, bool checkpoints, bool quiet) {
-  for (auto& o : outputs) checkOutputPath(o);
-  auto integrator = makeProgressiveIntegrator(name);
-  auto scene = loadScene(scenePath);
-  resolveResolution(scene->camera(), options);
-  if (progressive.radius <= 0) progressive.radius = defaultRadius(*scene, options.width, options.height);
-  if (!quiet) std::fprintf(stderr, "%s: initial radius %g m, alpha %g\n", name.c_str(), progressive.radius, progressive.alpha);
-  auto metadata = [&](const PassInfo& info) {
-    return std::map<std::string, std::string>{
-        {"integrator", name},
-        {"passes", std::to_string(info.passes)},
-        {"photons", std::to_string(info.photons)},
-        {"photons_per_pass", std::to_string(progressive.photonsPerPass)},
-        {"seconds", formatNumber(info.seconds)},
-        {"radius", formatNumber(info.meanRadius)},
-        {"initial_radius", formatNumber(progressive.radius)},
-        {"alpha", formatNumber(progressive.alpha)},
-        {"seed", std::to_string(options.seed)},
-        {"scene", scenePath},
-        {"width", std::to_string(options.width)},
-        {"height", std::to_string(options.height)},
-        {"spectral", progressive.spectral ? "1" : "0"}};
-  };
-  CheckpointFn checkpoint;
+  resolveResolution(scene->camera(), s.image);
+  const bool progressive = isProgressive(s.integrator);
+  if (progressive && s.progressive.radius <= 0) s.progressive.radius = defaultRadius(*scene, s.image.width, s.image.height);
+  if (progressive && !quiet)
+    std::fprintf(stderr, "%s: initial radius %g m, alpha %g\n", s.integrator.c_str(), s.progressive.radius, s.progressive.alpha);
+  RunCheckpointFn checkpoint;
   if (checkpoints) {
-    checkpoint = [&](const ImageRGB& image, const PassInfo& info) {
+    checkpoint = [&](const ImageRGB& image, const CheckpointInfo& info) {
       for (auto& o : outputs) {
         fs::path p(o);
         char suffix[32];
         std::snprintf(suffix, sizeof suffix, ".pass-%04d", info.passes);
-        writeImage((p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string(), image, metadata(info));
+        writeImage((p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string(), image,
+                   runMetadata(s, info, scenePath));
       }
     };
   }
-  PassInfo info;
-  ImageRGB image = integrator->render(*scene, options, progressive, checkpoint, &info);
-  if (info.interrupted) return writePartial(outputs, image, metadata(info), info.seconds);
-  for (auto& o : outputs) writeImage(o, image, metadata(info));
-  if (!quiet)
-    std::fprintf(stderr, "%s: %dx%d, %d passes, %llu photon paths, %.2f s, mean radius %g m -> %s\n", name.c_str(),
-                 options.width, options.height, info.passes, (unsigned long long)info.photons, info.seconds,
+  CheckpointInfo info;
+  std::vector<std::string> warnings;
+  uint64_t nonFinite = 0;
+  ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite);
+  for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  auto meta = runMetadata(s, info, scenePath);
+  if (info.interrupted) return writePartial(outputs, image, meta, info.seconds);
+  for (auto& o : outputs) writeImage(o, image, meta);
+  if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
+  if (quiet) return 0;
+  if (progressive)
+    std::fprintf(stderr, "%s: %dx%d, %d passes, %llu photon paths, %.2f s, mean radius %g m -> %s\n", s.integrator.c_str(),
+                 s.image.width, s.image.height, info.passes, (unsigned long long)info.photons, info.seconds,
                  info.meanRadius, outputs.front().c_str());
+  else
+    std::fprintf(stderr, "%s: %dx%d, %d spp, %.2f s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height, info.spp,
+                 info.seconds, outputs.front().c_str());
   return 0;
 }
 
@@ -324,15 +279,18 @@ int main(int argc, char** argv) {
         throw Error("--photons/--caustic-photons: must be a count from 0 to 4294967295");
       if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
       options.progress = !quiet;
-      integratorOptions.spectral = progressive.spectral = options.spectral;
-      if (isProgressive(integratorName)) {
-        progressive.radius = integratorOptions.density.radius;
-        progressive.timeLimit = options.timeLimit;
-        progressive.maxDepth = integratorOptions.maxDepth;
-        if (options.timeLimit > 0 && render->get_option("--passes")->count() == 0) progressive.passes = INT32_MAX;
-        return cmdRenderProgressive(scenePath, outputs, integratorName, options, progressive, checkpoints, quiet);
-      }
-      return cmdRender(scenePath, outputs, integratorName, options, integratorOptions, quiet);
+      RunSettings settings;
+      settings.integrator = integratorName;
+      settings.image = options;
+      settings.options = integratorOptions;
+      settings.options.spectral = options.spectral;
+      settings.progressive = progressive;
+      settings.progressive.spectral = options.spectral;
+      settings.progressive.radius = integratorOptions.density.radius;
+      settings.progressive.timeLimit = options.timeLimit;
+      settings.progressive.maxDepth = integratorOptions.maxDepth;
+      if (options.timeLimit > 0 && render->get_option("--passes")->count() == 0) settings.progressive.passes = INT32_MAX;
+      return cmdRender(scenePath, outputs, settings, checkpoints, quiet);
     }
     if (*info) return cmdInfo(infoScene);
     if (*compare) return cmdCompare(imagePath, referencePath);

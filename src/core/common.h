@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +34,13 @@ inline float average(const Spectrum& s) { return (s.r + s.g + s.b) / 3.0f; }
 inline float maxComponent(const Spectrum& s) { return std::max(s.r, std::max(s.g, s.b)); }
 inline bool isBlack(const Spectrum& s) { return s.r == 0.0f && s.g == 0.0f && s.b == 0.0f; }
 inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// A number as metadata and CSV files store it: shortest form that round-trips a float.
+inline std::string formatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
 
 struct Ray {
   Vec3 o, d;  // d is unit length

@@ -82,9 +82,10 @@ class Parser {
     }
     return v;
   }
-  std::vector<uint64_t> seeds(const toml::node& n, const std::string& key) const {
+  // `seed = 1` (one integer) or `seeds = [1, 2, 3]` (a list), as `list` says.
+  std::vector<uint64_t> seeds(const toml::node& n, const std::string& key, bool list) const {
     std::vector<uint64_t> out;
-    if (key.size() >= 4 && key.compare(key.size() - 4, 4, "seed") == 0) {
+    if (!list) {
       out.push_back(uint64_t(integer(n, key, 0, INT64_MAX)));
       return out;
     }
@@ -219,6 +220,12 @@ class Parser {
 
 }  // namespace
 
+std::vector<RunSettings*> allSettings(ExperimentConfig& c) {
+  std::vector<RunSettings*> all{&c.reference.settings};
+  for (auto& r : c.runs) all.push_back(&r.settings);
+  return all;
+}
+
 ExperimentConfig parseExperiment(std::string_view text, const std::string& path) {
   Parser p(path);
   toml::table root;
@@ -255,7 +262,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     } else if (key == "seed" || key == "seeds") {
       if (hasSeed) p.fail(&node, key, "give either seed or seeds, not both");
       hasSeed = true;
-      seeds = p.seeds(node, key);
+      seeds = p.seeds(node, key, key == "seeds");
     } else if (key == "inset") {
       const toml::array* a = node.as_array();
       if (!a || a->size() != 4) p.fail(&node, key, "must be [x, y, width, height] in pixels");
@@ -313,7 +320,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       if (key == "seed" || key == "seeds") {
         if (runSeed) p.fail(&node, prefix + "." + key, "give either seed or seeds, not both");
         runSeed = true;
-        r.seeds = p.seeds(node, prefix + "." + key);
+        r.seeds = p.seeds(node, prefix + "." + key, key == "seeds");
       }
     }
     if (r.label.empty()) r.label = r.settings.integrator + " " + std::to_string(i + 1);
@@ -321,11 +328,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     if (!labels.insert(r.label).second) p.fail(r.line, prefix + ".label", "'" + r.label + "' is used by another run");
     c.runs.push_back(std::move(r));
   }
-  for (RunSettings* s : [&] {
-         std::vector<RunSettings*> all{&c.reference.settings};
-         for (auto& r : c.runs) all.push_back(&r.settings);
-         return all;
-       }()) {
+  for (RunSettings* s : allSettings(c)) {
     s->image.width = c.width;
     s->image.height = c.height;
     s->image.threads = c.threads;

@@ -49,6 +49,9 @@ struct ExperimentConfig {
   std::vector<RunConfig> runs;
 };
 
+// The reference's settings, then every run's.
+std::vector<RunSettings*> allSettings(ExperimentConfig& config);
+
 // Throws Error naming `path`, the line and the key.
 ExperimentConfig parseExperiment(std::string_view text, const std::string& path);
 ExperimentConfig loadExperiment(const std::string& path);  // reads the file, then parseExperiment

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <toml++/toml.h>
 
 #include "core/interrupt.h"
 #include "io/image_io.h"
@@ -72,28 +73,20 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
   return image;
 }
 
-namespace {
-
-std::string number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-}  // namespace
 
 std::map<std::string, std::string> runMetadata(const RunSettings& s, const CheckpointInfo& info, const std::string& scenePath) {
   std::map<std::string, std::string> m = {
       {"integrator", s.integrator},         {"seed", std::to_string(s.image.seed)},
-      {"seconds", number(info.seconds)},    {"scene", scenePath},
+      {"seconds", formatNumber(info.seconds)},    {"scene", scenePath},
       {"max_depth", std::to_string(s.options.maxDepth)},
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
   if (isProgressive(s.integrator)) {
     m["passes"] = std::to_string(info.passes);
     m["photons"] = std::to_string(info.photons);
     m["photons_per_pass"] = std::to_string(s.progressive.photonsPerPass);
-    m["alpha"] = number(s.progressive.alpha);
-    m["radius"] = number(info.meanRadius);
+    m["alpha"] = formatNumber(s.progressive.alpha);
+    m["radius"] = formatNumber(info.meanRadius);
+    m["initial_radius"] = formatNumber(s.progressive.radius);
   } else {
     m["spp"] = std::to_string(info.spp);
   }
@@ -102,12 +95,13 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
     m["photons"] = std::to_string(s.options.photons);
     m["caustic_photons"] = std::to_string(s.options.causticPhotons);
     m["k"] = std::to_string(d.k);
-    m["radius"] = number(d.radius);
-    m["max_radius"] = number(d.maxRadius);
+    m["radius"] = formatNumber(d.radius);
+    m["max_radius"] = formatNumber(d.maxRadius);
     m["kernel"] = kernelName(d.kernel);
     m["final_gather"] = std::to_string(s.options.finalGather);
     if (!s.options.aov.empty()) m["aov"] = s.options.aov;
   }
+  if (s.image.nanAov) m["aov"] = "nan";
   if (s.image.spectral) m["spectral"] = "1";
   if (info.interrupted) m["partial"] = "1";
   return m;
@@ -243,17 +237,13 @@ std::string gitRevision(const fs::path& dir) {
   return rev;
 }
 
-// Reads `key = 'value'` (or "value") from the [provenance] table photonlab wrote.
-std::string valueOf(const std::string& toml, const std::string& key) {
-  std::istringstream in(toml);
-  std::string line;
-  const std::string prefix = key + " = ";
-  while (std::getline(in, line)) {
-    if (line.rfind(prefix, 0) != 0 || line.size() < prefix.size() + 2) continue;
-    char q = line[prefix.size()];
-    if ((q == '\'' || q == '"') && line.back() == q) return line.substr(prefix.size() + 1, line.size() - prefix.size() - 2);
+// The config hash a previous `photonlab run` recorded in DIR/experiment.toml, or "".
+std::string recordedConfigHash(const fs::path& file) {
+  try {
+    return toml::parse_file(file.string())["provenance"]["config_hash"].value_or(std::string());
+  } catch (const toml::parse_error&) {
+    return "";
   }
-  return "";
 }
 
 struct Row {
@@ -289,12 +279,14 @@ class Experiment {
       throw Error(c_.path + ": inset: region lies outside the " + std::to_string(c_.width) + "x" +
                   std::to_string(c_.height) + " image");
     if (o_.threads >= 0) c_.threads = o_.threads;
-    all_ = {&c_.reference.settings};
-    for (auto& r : c_.runs) all_.push_back(&r.settings);
-    for (RunSettings* s : all_) {
+    for (RunSettings* s : allSettings(c_)) {
       s->image.width = c_.width;
       s->image.height = c_.height;
       s->image.threads = c_.threads;
+      // The progressive methods' default radius depends on the scene: fill it in, so that the
+      // resolved config and the images' metadata say what was used.
+      if (isProgressive(s->integrator) && s->progressive.radius <= 0)
+        s->progressive.radius = defaultRadius(*scene_, c_.width, c_.height);
     }
     // The fingerprint of what would be rendered; threads do not change results (deterministic).
     std::string key = c_.scene + "\n" + c_.reference.file + "\n" + settingsFingerprint(c_.reference.settings);
@@ -352,7 +344,7 @@ class Experiment {
     if (!fs::is_directory(dir)) return "other";
     if (fs::is_empty(dir)) return "empty";
     if (!fs::is_regular_file(dir / "experiment.toml")) return "other";
-    if (valueOf(readFile(dir / "experiment.toml"), "config_hash") != configHash_) return "other";
+    if (recordedConfigHash(dir / "experiment.toml") != configHash_) return "other";
     loadRows(dir);
     size_t finished = 0, total = 0;
     for (size_t i = 0; i < c_.runs.size(); ++i)
@@ -490,35 +482,33 @@ class Experiment {
       auto meta = runMetadata(s, info, c_.scene);
       meta["label"] = rc.label;
       meta["experiment"] = c_.name;
+      // Checkpoints are spp-NNNN.exr (pass-NNNN.exr); the last one is final.exr, or partial.exr
+      // when interrupted, with a PNG beside it. Each image is written once.
+      const bool final = info.last && !info.interrupted;
+      interrupted = interrupted || info.interrupted;
       char name[48];
-      if (isProgressive(s.integrator)) std::snprintf(name, sizeof name, "pass-%04d.exr", info.passes);
+      if (info.interrupted) std::snprintf(name, sizeof name, "partial.exr");
+      else if (final) std::snprintf(name, sizeof name, "final.exr");
+      else if (isProgressive(s.integrator)) std::snprintf(name, sizeof name, "pass-%04d.exr", info.passes);
       else std::snprintf(name, sizeof name, "spp-%04d.exr", info.spp);
-      fs::path image_rel = folder / name;
+      const fs::path image_rel = folder / name;
       writeImage((out_ / image_rel).string(), image, meta);
-      bool final = info.last && !info.interrupted;
-      if (info.interrupted) {
-        writeImage((out_ / folder / "partial.exr").string(), image, meta);
-        writeImage((out_ / folder / "partial.png").string(), image, meta);
-        interrupted = true;
-      } else if (final) {
-        writeImage((out_ / folder / "final.exr").string(), image, meta);
-        writeImage((out_ / folder / "final.png").string(), image, meta);
-      }
+      if (info.last) writeImage((out_ / fs::path(image_rel).replace_extension(".png")).string(), image, meta);
       ErrorMetrics m = compareImages(image, reference_);
       std::vector<std::string> f = {std::to_string(run),
                                     rc.label,
                                     s.integrator,
                                     std::to_string(seed),
                                     std::to_string(index),
-                                    number(info.seconds),
+                                    formatNumber(info.seconds),
                                     std::to_string(info.spp),
                                     std::to_string(info.passes),
                                     std::to_string(info.photons),
-                                    number(m.rmse),
-                                    number(m.relmse),
-                                    number(m.mae),
-                                    number(m.meanRatio),
-                                    number(info.meanRadius),
+                                    formatNumber(m.rmse),
+                                    formatNumber(m.relmse),
+                                    formatNumber(m.mae),
+                                    formatNumber(m.meanRatio),
+                                    formatNumber(info.meanRadius),
                                     final ? "1" : "0",
                                     image_rel.string()};
       std::string line;
@@ -553,7 +543,6 @@ class Experiment {
   ExperimentConfig c_;
   ExperimentOptions o_;
   std::unique_ptr<Scene> scene_;
-  std::vector<RunSettings*> all_;
   std::string configHash_;
   fs::path out_;
   bool resuming_ = false;

@@ -41,39 +41,24 @@ class Light {
 
  protected:
   // Emission as the path needs it: the RGB value, or in spectral mode (spectral/spectral.h) the
-  // values at the path's wavelengths. Homogeneous of degree 1, so emit(a·c) = a·emit(c).
-  // The spectrum per unit of the light's colour is tabulated on first use.
+  // values at the path's wavelengths. Every light passes one fixed colour times a scalar
+  // (I·c, Le·c, ...), so its spectrum per unit of that scalar is tabulated once: per unit of
+  // luminance for the fixed shapes (blackbody, E), per unit of the largest component otherwise.
   Spectrum emit(const Spectrum& rgb) const {
     const SpectralContext& ctx = spectralContext();
     if (!ctx.active) return rgb;
-    const bool byLuminance = temperature > 0 || equalEnergy;  // a fixed spectral shape, scaled
-    float scale = byLuminance ? 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z
-                              : std::max(rgb.x, std::max(rgb.y, rgb.z));
+    float scale = temperature > 0 || equalEnergy ? luminance(rgb) : maxComponent(rgb);
     if (!(scale > 0.0f)) return Spectrum(0.0f);
     const auto& table = emission_.get([&](LazySpectrum::Table& t) {
-      unitColour_ = rgb / scale;
-      for (int i = 0; i < kCieSamples; ++i) {
-        SpectralContext one;
-        one.active = true;
-        one.lambda = Vec3(kLambdaMin + float(i));
-        std::swap(one, spectralContext());
-        t[i] = (temperature > 0 ? blackbodyEmission(temperature)
-                : equalEnergy   ? equalEnergyEmission()
-                                : spectralEmission(unitColour_)).x;
-        std::swap(one, spectralContext());
-      }
+      if (temperature > 0) blackbodyTable(temperature, &t);
+      else if (equalEnergy) equalEnergyTable(&t);
+      else emissionTable(rgb / scale, &t);
     });
-    // A light whose colour changes from call to call (none does) would miss the table.
-    if (glm::any(glm::greaterThan(glm::abs(rgb / scale - unitColour_), Vec3(1e-5f))))
-      return temperature > 0 ? scale * blackbodyEmission(temperature)
-             : equalEnergy   ? scale * equalEnergyEmission()
-                             : spectralEmission(rgb);
     return scale * LazySpectrum::at(table, ctx.lambda);
   }
 
  private:
   LazySpectrum emission_;
-  mutable Vec3 unitColour_{0.0f};
 };
 
 }  // namespace pl

@@ -1,7 +1,6 @@
 #include "spectral/spectral.h"
 
 #include <cmath>
-#include <mutex>
 
 #include "core/parallel.h"
 
@@ -120,8 +119,8 @@ std::vector<float> RGBUplift::fitNode(const Vec3& rgb) const {
   auto evaluate = [&](const double* cc, double* rgbOut, double J[3][3]) {
     double out[3] = {0, 0, 0};
     if (J)
-      for (auto& row : std::array<int, 3>{0, 1, 2})
-        for (int k = 0; k < 3; ++k) J[row][k] = 0;
+      for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < 3; ++k) J[ch][k] = 0;
     for (int i = 0; i < kCieSamples; ++i) {
       double t = double(i) / (kCieSamples - 1);
       double x = (cc[0] * t + cc[1]) * t + cc[2];
@@ -228,23 +227,20 @@ Spectrum spectralEmission(const Spectrum& rgb) {
   return out;
 }
 
-namespace {
-double blackbodyLuminance(double T) {
+void emissionTable(const Vec3& unitColour, LazySpectrum::Table* t) {
+  const RGBUplift& u = RGBUplift::instance();
+  for (int i = 0; i < kCieSamples; ++i) (*t)[i] = u.reflectance(unitColour, kLambdaMin + float(i)) * kD65[i];
+}
+
+void blackbodyTable(double T, LazySpectrum::Table* t) {
+  // Luminance 1 in the units where D65 has Y = 1: Σ B ȳ over the 1 nm samples, over Y_D65.
   double Y = 0;
   for (int i = 0; i < kCieSamples; ++i) Y += planck(kLambdaMin + i, T) * kCieY[i];
-  return Y / d65Luminance();  // in the units where D65 has Y = 1 after normalisation
-}
-}  // namespace
-
-Spectrum blackbodyEmission(double T) {
-  const SpectralContext& ctx = spectralContext();
-  double norm = 1.0 / blackbodyLuminance(T);
-  Spectrum out;
-  for (int k = 0; k < 3; ++k) out[k] = float(planck(ctx.lambda[k], T) * norm);
-  return out;
+  double norm = d65Luminance() / Y;
+  for (int i = 0; i < kCieSamples; ++i) (*t)[i] = float(planck(kLambdaMin + i, T) * norm);
 }
 
-Spectrum equalEnergyEmission() { return Spectrum(float(d65Luminance() / kCieYIntegral)); }
+void equalEnergyTable(LazySpectrum::Table* t) { t->fill(float(d65Luminance() / kCieYIntegral)); }
 
 Vec3 equalEnergyRGB() {
   double X = 0, Y = 0, Z = 0;
@@ -253,7 +249,6 @@ Vec3 equalEnergyRGB() {
 }
 
 Vec3 blackbodyRGB(double T) {
-  Vec3 xyz(0.0f);
   double X = 0, Y = 0, Z = 0;
   for (int i = 0; i < kCieSamples; ++i) {
     double b = planck(kLambdaMin + i, T);
@@ -261,8 +256,7 @@ Vec3 blackbodyRGB(double T) {
     Y += b * kCieY[i];
     Z += b * kCieZ[i];
   }
-  xyz = Vec3(float(X / Y), 1.0f, float(Z / Y));  // luminance 1
-  return projection().rgb(xyz);
+  return projection().rgb(Vec3(float(X / Y), 1.0f, float(Z / Y)));  // luminance 1
 }
 
 }  // namespace pl

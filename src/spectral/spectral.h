@@ -39,13 +39,11 @@ class RGBScope {
   SpectralContext saved_;
 };
 
-// Starts a spectral path: activates the context with wavelengths from `u` (or deactivates it
-// when `spectral` is false). Returns the wavelengths.
-inline Vec3 beginPath(bool spectral, float u);
-
 // Sets the three wavelengths from one uniform number (stratified rotation of λ₀).
 Vec3 sampleWavelengths(float u);
 
+// Starts a spectral path: activates the context with wavelengths from `u` (or deactivates it
+// when `spectral` is false). Returns the wavelengths.
 inline Vec3 beginPath(bool spectral, float u) {
   SpectralContext& ctx = spectralContext();
   ctx.active = spectral;
@@ -117,13 +115,16 @@ class LazySpectrum {
 // in RGB mode, `rgb` unchanged.
 Spectrum spectralReflectance(const Spectrum& rgb);  // albedos, clamped to [0, 1]
 Spectrum spectralEmission(const Spectrum& rgb);     // radiance, intensity, flux: max·ρ(rgb/max)·D65/Y
-// Blackbody of temperature T scaled to luminance Y = 1 (so a light's intensity keeps its
-// meaning), at the context's wavelengths; and its linear sRGB for RGB mode.
-Spectrum blackbodyEmission(double kelvin);
+// Emission spectra tabulated at the 1 nm samples (what a light caches, LazySpectrum::at reads):
+//   emissionTable: the uplift of a colour with max component 1, times D65 (spectralEmission's);
+//   blackbodyTable: Planck's law at T kelvin, scaled to luminance Y = 1 (a light's intensity
+//     keeps its meaning);
+//   equalEnergyTable: the equal-energy illuminant E, flat, at luminance 1.
+void emissionTable(const Vec3& unitColour, LazySpectrum::Table* t);
+void blackbodyTable(double kelvin, LazySpectrum::Table* t);
+void equalEnergyTable(LazySpectrum::Table* t);
+// Their linear sRGB, for RGB mode (E is slightly pink next to D65's white).
 Vec3 blackbodyRGB(double kelvin);
-// The equal-energy illuminant E (flat spectrum) at luminance 1, and its linear sRGB (slightly
-// pink next to D65's white).
-Spectrum equalEnergyEmission();
 Vec3 equalEnergyRGB();
 
 }  // namespace pl
