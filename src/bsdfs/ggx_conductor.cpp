@@ -1,5 +1,6 @@
 #include "bsdfs/ggx_conductor.h"
 
+#include "core/sampling.h"
 #include "optics/optics.h"
 
 namespace pl {
@@ -43,8 +44,8 @@ bool GGXConductor::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float, 
   float tan2 = alpha_ * alpha_ * u.x / (1.0f - u.x);
   float cosThetaM = 1.0f / std::sqrt(1.0f + tan2);
   float sinThetaM = std::sqrt(std::max(0.0f, 1.0f - cosThetaM * cosThetaM));
-  float phi = 2 * kPi * u.y;
-  Vec3 m(sinThetaM * std::cos(phi), sinThetaM * std::sin(phi), cosThetaM);
+  Vec2 sc = sinCos2Pi(u.y);
+  Vec3 m(sinThetaM * sc.y, sinThetaM * sc.x, cosThetaM);
   Vec3 wi = reflect(o, m);
   if (wi.z <= 0) return false;
   s->pdf = pdf(o, wi, uv);

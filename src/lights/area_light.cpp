@@ -11,6 +11,7 @@ AreaLight::AreaLight(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Spect
   float len = glm::length(c);
   area_ = 0.5f * len;
   n_ = len > 0 ? c / len : Vec3(0, 0, 1);
+  frame_ = Frame(n_);
 }
 
 bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
@@ -40,19 +41,16 @@ EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection) co
   Vec2 b = sampleUniformTriangle(uPosition);
   Vec3 y = b.x * p0_ + b.y * p1_ + (1 - b.x - b.y) * p2_;
   Vec2 u = uDirection;
-  Vec3 n = n_;
+  bool back = false;
   float sides = 1.0f;
-  if (twoSided_) {  // pick a face with probability 1/2, reusing the sample
+  if (twoSided_) {  // pick a face with probability 1/2, reusing the sample (branch-free: a coin flip)
     sides = 2.0f;
-    if (u.x < 0.5f) {
-      u.x *= 2.0f;
-    } else {
-      u.x = (u.x - 0.5f) * 2.0f;
-      n = -n;
-    }
-    u.x = std::min(u.x, 0.99999994f);
+    back = u.x >= 0.5f;
+    u.x = std::min(2.0f * u.x - select(back, 1.0f, 0.0f), 0.99999994f);
   }
-  Vec3 dir = Frame(n).toWorld(sampleCosineHemisphere(u));
+  Vec3 local = sampleCosineHemisphere(u);  // cosine-weighted around n, or around −n for the back face
+  local.z = negateIf(back, local.z);
+  Vec3 dir = frame_.toWorld(local);
   // flux = Le cosθ / (pdf_A · pdf_ω) = Le cosθ · A · π / cosθ (× 2 faces) = Φ.
   return {Ray{y, dir}, emit(Le_) * (kPi * area_ * sides)};
 }

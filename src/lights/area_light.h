@@ -1,4 +1,5 @@
 #pragma once
+#include "core/frame.h"
 #include "lights/light.h"
 
 namespace pl {
@@ -27,6 +28,7 @@ class AreaLight final : public Light {
 
  private:
   Vec3 p0_, p1_, p2_, n_;
+  Frame frame_;  // around n_, for emitted directions
   Spectrum Le_;
   float area_;
   bool twoSided_;

@@ -44,8 +44,13 @@ struct Photon {
     }
     int e = exponentOf(m);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
     float scale = powerOfTwo(8 - e);
-    if (int(m * scale + dither) > 255) scale *= 0.5f, ++e;  // rounded up to 256: next exponent
-    for (int c = 0; c < 3; ++c) rgbe[c] = uint8_t(std::min(255, int(std::max(0.0f, f[c]) * scale + dither)));
+    if (m * scale + dither >= 256.0f) scale *= 0.5f, ++e;  // rounds up to 256: next exponent
+    // Each channel is at most m, so its mantissa is at most m's, now below 256. The clamp (a
+    // branch-free minss) covers a compiler fusing one multiply-add into an FMA but not another.
+    auto mantissa = [&](float c) { return uint8_t(std::min(255.0f, std::max(0.0f, c) * scale + dither)); };
+    rgbe[0] = mantissa(f.r);
+    rgbe[1] = mantissa(f.g);
+    rgbe[2] = mantissa(f.b);
     rgbe[3] = uint8_t(e + 128);
   }
   Spectrum flux() const {
@@ -66,16 +71,18 @@ struct Photon {
 
   // --- direction: octahedral map (Meyer et al. 2010), 15 bits per coordinate ---
   void setDirection(const Vec3& w, uint8_t flags) {
-    float l1 = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
-    float u = w.x / l1, v = w.y / l1;
-    if (w.z < 0) {
-      float pu = u, pv = v;
-      u = (1 - std::abs(pv)) * (pu >= 0 ? 1.0f : -1.0f);
-      v = (1 - std::abs(pu)) * (pv >= 0 ? 1.0f : -1.0f);
-    }
-    auto quantise = [](float x) { return uint16_t(int((std::clamp(x, -1.0f, 1.0f) * 0.5f + 0.5f) * 32767.0f + 0.5f)); };
-    direction[0] = uint16_t(quantise(u) << 1 | (flags & 1));
-    direction[1] = uint16_t(quantise(v) << 1 | ((flags >> 1) & 1));
+    float invL1 = 1.0f / (std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
+    float u = w.x * invL1, v = w.y * invL1;
+    // The lower hemisphere folds over the diagonals. Photons arrive from either side as often,
+    // so the fold is selected without a branch (common.h, select).
+    bool lower = w.z < 0;
+    float fu = std::copysign(1 - std::abs(v), u), fv = std::copysign(1 - std::abs(u), v);
+    u = select(lower, fu, u);
+    v = select(lower, fv, v);
+    // u, v in [−1, 1] up to rounding: the clamp keeps the 15-bit code in range.
+    auto quantise = [](float x) { return unsigned(std::min(32767.0f, std::max(0.0f, x * 16383.5f + 16384.0f))); };
+    direction[0] = uint16_t(quantise(u) << 1 | (flags & 1u));
+    direction[1] = uint16_t(quantise(v) << 1 | ((flags >> 1) & 1u));
   }
   Vec3 wi() const {
     float u = (direction[0] >> 1) / 32767.0f * 2 - 1, v = (direction[1] >> 1) / 32767.0f * 2 - 1;

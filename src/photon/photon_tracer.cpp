@@ -34,12 +34,15 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     if (!scene.intersect(ray, &hit)) return;
     Vec3 wo = -ray.d;
     if (!hit.bsdf->isDelta()) {
-      Photon::Type type = depth == 0 ? Photon::kDirect : onlySpecular ? Photon::kCaustic : Photon::kIndirect;
+      // kDirect at the first hit, kCaustic after specular bounces only, kIndirect otherwise;
+      // in integer arithmetic, since depth == 0 is unpredictable.
+      bool first = depth == 0;
+      auto type = Photon::Type(first * Photon::kDirect + (!first & onlySpecular) * Photon::kCaustic);
       if (causticMode) {
-        if (type == Photon::kCaustic) out->emplace_back(hit.p, wo, stored(flux), type, rng.uniform());
+        if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(flux), type, rng.uniform()));
         return;
       }
-      out->emplace_back(hit.p, wo, stored(flux), type, rng.uniform());
+      out->push_back(Photon(hit.p, wo, stored(flux), type, rng.uniform()));
       onlySpecular = false;
     }
     BSDFSample bs;
@@ -50,7 +53,7 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
     // so the flux keeps its magnitude instead of shrinking bounce after bounce.
     float q = std::min(1.0f, maxComponent(bs.weight));
     if (!(q > 0) || rng.uniform() >= q) return;  // also ends on NaN
-    flux *= bs.weight / q;
+    flux *= bs.weight * (1.0f / q);
     if (!isFinite(flux)) return;  // a non-finite BSDF weight ends the path: it never reaches a map
     Vec3 wi = hit.shading.toWorld(bs.wi);
     ray = scene.spawnRay(hit, wi);

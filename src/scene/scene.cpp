@@ -57,6 +57,7 @@ void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>&
     }
     tri.material = material;
     tri.smooth = smooth;
+    tri.hasUV = !uvs.empty();
     triangles_.push_back(tri);
   }
 }
@@ -128,8 +129,11 @@ namespace {
 // for intersect() and blocked for occluded() instead.
 bool embreeValid(const Ray& r) {
   constexpr float kLarge = 1.844e18f;
-  auto ok = [&](const Vec3& v) { return std::abs(v.x) <= kLarge && std::abs(v.y) <= kLarge && std::abs(v.z) <= kLarge; };
-  return ok(r.o) && ok(r.d) && r.tmin >= 0.0f && !(r.tmax != r.tmax);
+  // One comparison for all six components (this runs for every ray): their magnitudes' sum is
+  // NaN if any is NaN and exceeds kLarge if any does (slightly stricter than Embree, which is
+  // harmless: the loader bounds scenes at 1e7 m).
+  float sum = std::abs(r.o.x) + std::abs(r.o.y) + std::abs(r.o.z) + std::abs(r.d.x) + std::abs(r.d.y) + std::abs(r.d.z);
+  return sum <= kLarge && r.tmin >= 0.0f && !(r.tmax != r.tmax);
 }
 }  // namespace
 
@@ -168,7 +172,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
     if (len > 0) ns = n / len;
   }
   hit->shading = Frame(ns);
-  hit->uv = b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]];
+  hit->uv = tri.hasUV ? b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
   hit->primitive = rh.hit.primID;
   hit->bsdf = materials_[tri.material].bsdf.get();
   hit->lightIndex = tri.light;

@@ -89,7 +89,8 @@ class Scene {
     uint32_t v[3];
     uint32_t material;
     int32_t light = -1;
-    bool smooth = false;
+    bool smooth = false;  // the mesh has NORMALs
+    bool hasUV = false;   // the mesh has TEXCOORD_0
   };
   RTCDevice device_ = nullptr;
   RTCScene rtcScene_ = nullptr;
