@@ -58,7 +58,7 @@ class Distribution1D {
   explicit Distribution1D(const std::vector<float>& weights);
   // Index with probability weight/total; `u` is remapped to [0,1) for reuse.
   size_t sample(float u, float* pmf = nullptr, float* uRemapped = nullptr) const;
-  float pmf(size_t i) const { return total_ > 0 ? pmf_[i] : 0.0f; }
+  float pmf(size_t i) const { return pmf_[i]; }
   size_t size() const { return weights_.size(); }
   double total() const { return total_; }
 

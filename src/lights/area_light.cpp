@@ -10,8 +10,7 @@ AreaLight::AreaLight(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Spect
   Vec3 c = glm::cross(p1 - p0, p2 - p0);
   float len = glm::length(c);
   area_ = 0.5f * len;
-  n_ = len > 0 ? c / len : Vec3(0, 0, 1);
-  frame_ = Frame(n_);
+  frame_ = Frame(len > 0 ? c / len : Vec3(0, 0, 1));
 }
 
 bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
@@ -23,7 +22,7 @@ bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
   if (r2 <= 0) return false;
   s->distance = std::sqrt(r2);
   s->wi = d / s->distance;
-  float cosLight = glm::dot(n_, -s->wi);
+  float cosLight = glm::dot(frame_.n, -s->wi);
   s->Li = L(-s->wi);
   if (cosLight == 0 || isBlack(s->Li)) return false;
   s->pdf = r2 / (area_ * std::abs(cosLight));
@@ -33,7 +32,7 @@ bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
 float AreaLight::pdfLi(const Vec3& p, const Vec3& y) const {
   Vec3 d = y - p;
   float r2 = glm::dot(d, d);
-  float cosLight = std::abs(glm::dot(n_, d)) / std::sqrt(r2);
+  float cosLight = std::abs(glm::dot(frame_.n, d)) / std::sqrt(r2);
   return cosLight > 0 && area_ > 0 ? r2 / (area_ * cosLight) : 0.0f;
 }
 

@@ -18,17 +18,17 @@ class AreaLight final : public Light {
 
   // Radiance leaving the light in direction w (unit, away from the surface).
   Spectrum L(const Vec3& w) const {
-    float c = glm::dot(n_, w);
+    float c = glm::dot(frame_.n, w);
     return (c > 0 || (twoSided_ && c < 0)) ? emit(Le_) : Spectrum(0.0f);
   }
   // Solid-angle density of sampleLi() choosing the point y seen from p.
   float pdfLi(const Vec3& p, const Vec3& y) const;
   float area() const { return area_; }
-  const Vec3& normal() const { return n_; }
+  const Vec3& normal() const { return frame_.n; }
 
  private:
-  Vec3 p0_, p1_, p2_, n_;
-  Frame frame_;  // around n_, for emitted directions
+  Vec3 p0_, p1_, p2_;
+  Frame frame_;  // around the unit normal frame_.n (counter-clockwise side), for emitted directions
   Spectrum Le_;
   float area_;
   bool twoSided_;

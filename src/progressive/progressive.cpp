@@ -81,8 +81,7 @@ float defaultRadius(const Scene& scene, int width, int height) {
 }
 
 PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& o) {
-  PassSetup s;
-  s.start = std::chrono::steady_clock::now();
+  PassSetup s;  // its clock starts here
   s.image = image;
   resolveResolution(scene.camera(), s.image);
   s.width = s.image.width;

@@ -98,7 +98,7 @@ struct PassSetup {
   int width, height, threads;
   size_t pixels;
   float initialRadius;  // options.radius, or defaultRadius()
-  std::chrono::steady_clock::time_point start;  // set-up counts towards the render time
+  RenderClock clock;  // started before the set-up, which counts towards the render time
 };
 PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
 
@@ -110,28 +110,24 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
 // through the specular chain, so that gathers (in RGB) can use it; then the path ends.
 void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
 
-inline bool isCheckpoint(int pass) { return pass > 0 && (pass & (pass - 1)) == 0; }  // 1, 2, 4, 8, ...
-
 // The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
 // interrupt (all checked at pass boundaries, so at least one pass is made), and hands image() to
 // the checkpoint after passes 1, 2, 4, ... and the last.
 template <typename PassFn, typename ImageFn, typename RadiusFn>
 ImageRGB runPasses(const PassSetup& setup, const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info,
                    PassFn&& pass, ImageFn&& image, RadiusFn&& meanRadius) {
-  double paused = 0.0;  // time spent in checkpoints, not counted
+  RenderClock clock = setup.clock;
   PassInfo pi;
   for (int p = 1; p <= o.passes; ++p) {
     pass(p);
     pi.passes = p;
     pi.photons = uint64_t(p) * o.photonsPerPass;
-    pi.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup.start).count() - paused;
+    pi.seconds = clock.elapsed();
     pi.meanRadius = meanRadius();
     pi.interrupted = interruptRequested();
     bool last = p == o.passes || (o.timeLimit > 0 && pi.seconds >= o.timeLimit) || pi.interrupted;
     if (checkpoint && (isCheckpoint(p) || last)) {
-      auto pauseStart = std::chrono::steady_clock::now();
-      checkpoint(image(), pi);
-      paused += std::chrono::duration<double>(std::chrono::steady_clock::now() - pauseStart).count();
+      clock.excluding([&] { checkpoint(image(), pi); });
     }
     if (last) break;
   }

@@ -54,11 +54,7 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   std::vector<double> sum(size_t(W) * H * 3, 0.0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
   std::vector<uint32_t> nanCount(o.nanAov ? size_t(W) * H : 0, 0);  // per pixel, for --aov nan
-  auto start = std::chrono::steady_clock::now();
-  double paused = 0.0;  // time spent in checkpoints, not counted
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - paused;
-  };
+  RenderClock clock;
   auto estimate = [&](int taken) {
     ImageRGB image(W, H);
     if (o.nanAov) {
@@ -70,7 +66,7 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   };
   auto fillStats = [&](RenderStats* st, int taken, bool interrupted) {
     st->spp = taken;
-    st->seconds = elapsed();
+    st->seconds = clock.elapsed();
     st->nonFiniteSamples = 0;
     for (auto n : nonFinite) st->nonFiniteSamples += n;
     st->interrupted = interrupted;
@@ -108,16 +104,16 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
       }
     });
     taken = s + 1;
-    double t = elapsed();
+    double t = clock.elapsed();
     progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
     interrupted = interruptRequested();
     bool last = taken == target || (o.timeLimit > 0 && t >= o.timeLimit) || interrupted;
-    if (o.checkpoint && ((taken & (taken - 1)) == 0 || last)) {
-      auto pauseStart = std::chrono::steady_clock::now();
-      RenderStats st;
-      fillStats(&st, taken, interrupted);
-      o.checkpoint(estimate(taken), st);
-      paused += std::chrono::duration<double>(std::chrono::steady_clock::now() - pauseStart).count();
+    if (o.checkpoint && (isCheckpoint(taken) || last)) {
+      clock.excluding([&] {
+        RenderStats st;
+        fillStats(&st, taken, interrupted);
+        o.checkpoint(estimate(taken), st);
+      });
     }
     if (last) break;
   }

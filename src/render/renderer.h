@@ -1,6 +1,7 @@
 // Renders a scene with an integrator: samples are taken one pass (one sample per pixel) at a
 // time, so --time can stop at a sample boundary and every pixel has the same sample count.
 #pragma once
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -10,6 +11,29 @@
 namespace pl {
 
 struct RenderStats;
+
+// A render's time: wall time since construction, minus the time spent in excluded work
+// (checkpoints write images; that is neither part of the measured time nor of the budget).
+class RenderClock {
+ public:
+  double elapsed() const { return since(start_) - paused_; }
+  template <typename Fn>
+  void excluding(Fn&& fn) {
+    auto t0 = std::chrono::steady_clock::now();
+    fn();
+    paused_ += since(t0);
+  }
+
+ private:
+  static double since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  }
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double paused_ = 0.0;
+};
+
+// Checkpoints fall after samples (or passes) 1, 2, 4, 8, ... and after the last.
+inline bool isCheckpoint(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 struct RenderOptions {
   int width = 0, height = 0;  // 0: derived (see resolveResolution)
