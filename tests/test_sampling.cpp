@@ -41,34 +41,78 @@ TEST_CASE("rng: uniform in (0 1) - keyed streams differ and repeat") {
   CHECK(sum / 100000 == Approx(0.5).margin(0.005));
 }
 
-TEST_CASE("Distribution1D picks items in proportion to their weights") {
-  Distribution1D d({1.0f, 0.0f, 3.0f});
+TEST_CASE("rng: hashed streams (one per photon) repeat, differ, and are uncorrelated across indices") {
+  Rng a = Rng::hashed(7, 100), b = Rng::hashed(7, 100), c = Rng::hashed(7, 101), d = Rng::hashed(8, 100);
+  float x = a.uniform();
+  CHECK(x == b.uniform());
+  CHECK(x != c.uniform());
+  CHECK(x != d.uniform());
+  // The first numbers of consecutive streams, as the tracer draws them: uniform in mean and
+  // variance, and no correlation between photon i's and photon i + 1's (|ρ| ~ 1/√n).
+  const int n = 100000;
+  double sum = 0, sum2 = 0, cross = 0;
+  float previous = Rng::hashed(3, 0).uniform();
+  for (int i = 1; i <= n; ++i) {
+    float u = Rng::hashed(3, uint64_t(i)).uniform();
+    sum += u, sum2 += u * u, cross += (u - 0.5) * (previous - 0.5);
+    previous = u;
+  }
+  CHECK(sum / n == Approx(0.5).margin(0.005));
+  CHECK(sum2 / n == Approx(1.0 / 3.0).margin(0.005));
+  CHECK(std::abs(cross / n / (1.0 / 12.0)) < 0.015);
+}
+
+TEST_CASE("AliasTable picks items in proportion to their weights") {
+  AliasTable d({1.0f, 0.0f, 3.0f});
+  CHECK(d.total() == Approx(4.0));
   CHECK(d.pmf(0) == Approx(0.25));
   CHECK(d.pmf(1) == 0.0f);
   std::vector<double> counts(3, 0);
   Rng rng(3, 3);
-  for (int i = 0; i < 40000; ++i) counts[d.sample(rng.uniform())] += 1;
+  for (int i = 0; i < 40000; ++i) {
+    float pmf;
+    size_t k = d.sample(rng.uniform(), &pmf);
+    counts[k] += 1;
+    REQUIRE(pmf == d.pmf(k));
+  }
   CHECK(counts[1] == 0);
   CHECK(counts[0] / 40000 == Approx(0.25).margin(0.01));
 }
 
-TEST_CASE("Distribution1D: the branch-free count (up to 16 items) and the binary search agree") {
-  // The same weights repeated: 8 items use the count, 32 the search; item i of the short
-  // list must come out where items i, i + 8, i + 16, i + 24 of the long one do, for u and u/4.
-  std::vector<float> w = {0.5f, 0.0f, 2.0f, 1.0f, 0.25f, 3.0f, 0.0f, 1.25f}, w4;
-  for (int k = 0; k < 4; ++k) w4.insert(w4.end(), w.begin(), w.end());
-  Distribution1D small(w), large(w4);
-  Rng rng(4, 4);
-  for (int i = 0; i < 20000; ++i) {
-    float u = rng.uniform(), pmfSmall, pmfLarge, uSmall, uLarge;
-    size_t a = small.sample(u, &pmfSmall, &uSmall);
-    size_t b = large.sample(u / 4, &pmfLarge, &uLarge);
-    REQUIRE(a == b);
-    REQUIRE(w[a] > 0.0f);
-    CHECK(pmfSmall == Approx(4 * pmfLarge));
-    CHECK(uSmall == Approx(uLarge).margin(1e-5));
+TEST_CASE("AliasTable: the share of [0, 1) mapped to each item is exactly its pmf") {
+  // Not a statistical test: u runs over a grid of 2²⁰ points, so each item's count divided by
+  // 2²⁰ is the measure of u that selects it, which must equal weight/total (to the grid's
+  // resolution) for any weights, zeros included, and a zero weight must never be selected.
+  Rng rng(5, 5);
+  for (int trial = 0; trial < 20; ++trial) {
+    size_t n = 1 + rng.nextU32() % 40;
+    std::vector<float> w(n);
+    for (float& x : w) x = rng.uniform() < 0.25f ? 0.0f : std::pow(10.0f, 4.0f * rng.uniform() - 2.0f);
+    w[rng.nextU32() % n] = 1.0f;  // at least one positive weight
+    AliasTable d(w);
+    double total = 0;
+    for (float x : w) total += x;
+    const int grid = 1 << 20;
+    std::vector<double> count(n, 0);
+    for (int j = 0; j < grid; ++j) count[d.sample((j + 0.5f) / grid)] += 1;
+    for (size_t i = 0; i < n; ++i) {
+      INFO("trial " << trial << ", item " << i << " of " << n << ", weight " << w[i]);
+      if (w[i] == 0) REQUIRE(count[i] == 0);
+      CHECK(count[i] / grid == Approx(w[i] / total).margin(double(n) / grid));
+      CHECK(d.pmf(i) == Approx(w[i] / total));
+    }
   }
-  CHECK(small.pmf(2) == Approx(2.0 / 8.0));
+}
+
+TEST_CASE("AliasTable: one item, and no positive weight") {
+  AliasTable one({2.5f});
+  float pmf;
+  CHECK(one.sample(0.999f, &pmf) == 0);
+  CHECK(pmf == 1.0f);
+  AliasTable none({0.0f, 0.0f});
+  CHECK(none.total() == 0.0);
+  CHECK(none.sample(0.7f, &pmf) < 2);
+  CHECK(pmf == 0.0f);
 }
 
 TEST_CASE("sinCos2Pi matches libm's sin and cos of 2πu to 3e-7") {

@@ -23,6 +23,17 @@ class Rng {
                mix64(a) ^ b);
   }
 
+  // A stream started at a hashed position of one sequence: `key` identifies what is sampled
+  // (e.g. a photon map), `index` the item (photon i). One hash instead of keyed()'s four and
+  // no warm-up steps, for the photon tracer, which starts a stream per emitted photon; PCG's
+  // output permutation makes the first number as good as any later one.
+  static Rng hashed(uint64_t key, uint64_t index) {
+    Rng r;
+    r.state_ = mix64(key + index * 0x9e3779b97f4a7c15ULL);
+    r.inc_ = (key << 1u) | 1u;
+    return r;
+  }
+
   void reset(uint64_t seed, uint64_t stream) {
     state_ = 0;
     inc_ = (stream << 1u) | 1u;

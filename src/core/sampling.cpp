@@ -58,35 +58,52 @@ Vec2 sampleUniformTriangle(const Vec2& u) {
   return Vec2(select(lower, h0, u.x - h1), select(lower, u.y - h0, h1));
 }
 
-Distribution1D::Distribution1D(const std::vector<float>& weights) {
-  weights_.assign(weights.begin(), weights.end());
-  cdf_.resize(weights_.size());
-  double sum = 0;
-  for (size_t i = 0; i < weights_.size(); ++i) {
-    sum += std::max(0.0, weights_[i]);
-    cdf_[i] = sum;
+AliasTable::AliasTable(const std::vector<float>& weights) {
+  size_t n = weights.size();
+  bins_.resize(n);
+  pmf_.assign(n, 0.0f);
+  std::vector<double> w(n);
+  for (size_t i = 0; i < n; ++i) w[i] = std::max(0.0, double(weights[i]));  // also maps NaN to 0
+  for (double x : w) total_ += x;
+  if (n == 0 || !(total_ > 0)) {
+    for (size_t i = 0; i < n; ++i) bins_[i] = {1.0, uint32_t(i)};
+    total_ = 0.0;
+    return;
   }
-  total_ = sum;
-  pmf_.resize(weights_.size());
-  for (size_t i = 0; i < weights_.size(); ++i) pmf_[i] = sum > 0 ? float(std::max(0.0, weights_[i]) / sum) : 0.0f;
+  // Vose: each bin holds mass 1 in units of total/n. A bin below 1 ("small") is topped up by
+  // one item above 1 ("large"), which keeps the rest of its mass for later bins.
+  std::vector<double> p(n);
+  std::vector<uint32_t> small, large;
+  for (size_t i = 0; i < n; ++i) {
+    pmf_[i] = float(w[i] / total_);
+    p[i] = w[i] / total_ * double(n);
+    (p[i] < 1.0 ? small : large).push_back(uint32_t(i));
+  }
+  while (!small.empty() && !large.empty()) {
+    uint32_t s = small.back(), l = large.back();
+    small.pop_back();
+    bins_[s] = {p[s], l};
+    p[l] -= 1.0 - p[s];
+    if (p[l] < 1.0) large.pop_back(), small.push_back(l);
+  }
+  // What is left holds mass 1 up to rounding.
+  for (uint32_t i : large) bins_[i] = {1.0, i};
+  for (uint32_t i : small) bins_[i] = {1.0, i};
+  // A zero-weight item must never come out, whatever the rounding above did.
+  uint32_t heaviest = uint32_t(std::max_element(w.begin(), w.end()) - w.begin());
+  for (size_t i = 0; i < n; ++i)
+    if (w[i] == 0.0) bins_[i] = {0.0, w[bins_[i].alias] > 0 ? bins_[i].alias : heaviest};
 }
 
-size_t Distribution1D::sample(float u, float* pmfOut, float* uRemapped) const {
-  double target = double(u) * total_;
-  // Index of the first cdf entry above the target. Scenes have a handful of lights (a quad is
-  // two): counting is branch-free there, where a binary search mispredicts on every photon.
-  size_t i = 0;
-  if (cdf_.size() <= 16) {
-    for (double c : cdf_) i += c <= target;
-  } else {
-    i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
-  }
-  i = std::min(i, cdf_.size() - 1);
-  while (i > 0 && weights_[i] <= 0) --i;  // never return a zero-weight item
-  double lo = i ? cdf_[i - 1] : 0.0;
-  if (pmfOut) *pmfOut = pmf_[i];
-  if (uRemapped) *uRemapped = float(std::min((target - lo) / weights_[i], 0.99999994));
-  return i;
+size_t AliasTable::sample(float u, float* pmfOut) const {
+  // In double, x = u·n is exact (24-bit u, n < 2²⁹), so every bin and its split get exactly
+  // their share of u.
+  double x = double(u) * double(bins_.size());
+  size_t i = std::min(size_t(x), bins_.size() - 1);
+  const Bin& bin = bins_[i];
+  size_t k = x - double(i) < bin.q ? i : bin.alias;
+  if (pmfOut) *pmfOut = pmf_[k];
+  return k;
 }
 
 }  // namespace pl

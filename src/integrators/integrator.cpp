@@ -18,7 +18,7 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Integr
 std::vector<std::string> integratorNames() { return {"direct", "whitted", "path", "photon"}; }
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis) {
-  const Distribution1D& dist = scene.lightDistribution();
+  const AliasTable& dist = scene.lightDistribution();
   if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
   float pmf;
   size_t index = dist.sample(rng.uniform(), &pmf);

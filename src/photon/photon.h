@@ -5,6 +5,9 @@
 #include <cstring>
 
 #include "core/common.h"
+#if defined(__SSE2__)  // every x86-64 processor
+#include <emmintrin.h>
+#endif
 
 namespace pl {
 
@@ -45,13 +48,27 @@ struct Photon {
     int e = exponentOf(m);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
     float scale = powerOfTwo(8 - e);
     if (m * scale + dither >= 256.0f) scale *= 0.5f, ++e;  // rounds up to 256: next exponent
-    // Each channel is at most m, so its mantissa is at most m's, now below 256. The clamp (a
-    // branch-free minss) covers a compiler fusing one multiply-add into an FMA but not another.
-    auto mantissa = [&](float c) { return uint8_t(std::min(255.0f, std::max(0.0f, c) * scale + dither)); };
-    rgbe[0] = mantissa(f.r);
-    rgbe[1] = mantissa(f.g);
-    rgbe[2] = mantissa(f.b);
+#if defined(__SSE2__)
+    // mantissa() on the three channels at once, bit for bit (tested): the same operations in
+    // the same order, and maxps/minps pick NaN's second operand as std::max/min do here. The
+    // scalar form compiles to a compare-and-branch per clamp; this was 3% of photon tracing.
+    __m128 c = _mm_setr_ps(f.r, f.g, f.b, 0.0f);
+    c = _mm_add_ps(_mm_mul_ps(_mm_max_ps(c, _mm_setzero_ps()), _mm_set1_ps(scale)), _mm_set1_ps(dither));
+    __m128i q = _mm_cvttps_epi32(_mm_min_ps(c, _mm_set1_ps(255.0f)));
+    q = _mm_packus_epi16(_mm_packs_epi32(q, q), q);  // 32 → 16 → 8 bits, each value ≤ 255
+    uint32_t bytes = (uint32_t(_mm_cvtsi128_si32(q)) & 0xffffffu) | uint32_t(e + 128) << 24;
+    std::memcpy(rgbe, &bytes, 4);  // x86 is little-endian: rgbe[0] = R
+#else
+    rgbe[0] = mantissa(f.r, scale, dither);
+    rgbe[1] = mantissa(f.g, scale, dither);
+    rgbe[2] = mantissa(f.b, scale, dither);
     rgbe[3] = uint8_t(e + 128);
+#endif
+  }
+  // Each channel is at most m, so its mantissa is at most m's, below 256 after the exponent
+  // step. The clamp covers a compiler fusing one multiply-add into an FMA but not another.
+  static uint8_t mantissa(float c, float scale, float dither) {
+    return uint8_t(std::min(255.0f, std::max(0.0f, c) * scale + dither));
   }
   Spectrum flux() const {
     if (rgbe[3] == 0) return Spectrum(0.0f);
@@ -72,18 +89,38 @@ struct Photon {
   // --- direction: octahedral map (Meyer et al. 2010), 15 bits per coordinate ---
   void setDirection(const Vec3& w, uint8_t flags) {
     float invL1 = 1.0f / (std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
+#if defined(__SSE2__)
+    // octahedral() and quantise() on (u, v) at once, bit for bit (tested); 3% of photon tracing
+    // in scalar form, whose fold needs two selects through the integer registers.
+    const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 uv = _mm_mul_ps(_mm_setr_ps(w.x, w.y, 0.0f, 0.0f), _mm_set1_ps(invL1));
+    __m128 vu = _mm_shuffle_ps(uv, uv, _MM_SHUFFLE(3, 2, 0, 1));
+    // copysign(1 − |v|, u), copysign(1 − |u|, v): 1 − |v| ≥ 0, so OR-ing in u's sign bit is copysign.
+    __m128 folded = _mm_or_ps(_mm_sub_ps(_mm_set1_ps(1.0f), _mm_and_ps(vu, magnitude)), _mm_andnot_ps(magnitude, uv));
+    __m128 lower = _mm_cmplt_ps(_mm_set1_ps(w.z), _mm_setzero_ps());
+    uv = _mm_or_ps(_mm_and_ps(lower, folded), _mm_andnot_ps(lower, uv));
+    uv = _mm_add_ps(_mm_mul_ps(uv, _mm_set1_ps(16383.5f)), _mm_set1_ps(16384.0f));
+    __m128i q = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(uv, _mm_setzero_ps()), _mm_set1_ps(32767.0f)));
+    q = _mm_or_si128(_mm_slli_epi32(q, 1), _mm_setr_epi32(flags & 1, (flags >> 1) & 1, 0, 0));
+    direction[0] = uint16_t(_mm_cvtsi128_si32(q));
+    direction[1] = uint16_t(_mm_extract_epi16(q, 2));
+#else
+    Vec2 uv = octahedral(w, invL1);
+    direction[0] = uint16_t(quantise(uv.x) << 1 | (flags & 1u));
+    direction[1] = uint16_t(quantise(uv.y) << 1 | ((flags >> 1) & 1u));
+#endif
+  }
+  // (u, v) of unit w on the octahedron |u| + |v| + |z| = 1, invL1 = 1/(|x| + |y| + |z|).
+  static Vec2 octahedral(const Vec3& w, float invL1) {
     float u = w.x * invL1, v = w.y * invL1;
     // The lower hemisphere folds over the diagonals. Photons arrive from either side as often,
     // so the fold is selected without a branch (common.h, select).
     bool lower = w.z < 0;
     float fu = std::copysign(1 - std::abs(v), u), fv = std::copysign(1 - std::abs(u), v);
-    u = select(lower, fu, u);
-    v = select(lower, fv, v);
-    // u, v in [−1, 1] up to rounding: the clamp keeps the 15-bit code in range.
-    auto quantise = [](float x) { return unsigned(std::min(32767.0f, std::max(0.0f, x * 16383.5f + 16384.0f))); };
-    direction[0] = uint16_t(quantise(u) << 1 | (flags & 1u));
-    direction[1] = uint16_t(quantise(v) << 1 | ((flags >> 1) & 1u));
+    return Vec2(select(lower, fu, u), select(lower, fv, v));
   }
+  // u, v in [−1, 1] up to rounding: the clamp keeps the 15-bit code in range.
+  static unsigned quantise(float x) { return unsigned(std::min(32767.0f, std::max(0.0f, x * 16383.5f + 16384.0f))); }
   Vec3 wi() const {
     float u = (direction[0] >> 1) / 32767.0f * 2 - 1, v = (direction[1] >> 1) / 32767.0f * 2 - 1;
     Vec3 w(u, v, 1 - std::abs(u) - std::abs(v));

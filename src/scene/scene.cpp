@@ -90,7 +90,7 @@ void Scene::commit() {
     light->preprocess(bounds_.center(), std::max(bounds_.radius(), 1e-3f));
     weights.push_back(std::max(0.0f, average(light->power())));
   }
-  lightDistribution_ = Distribution1D(weights);
+  lightDistribution_ = AliasTable(weights);
 
   rtcScene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);

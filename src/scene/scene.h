@@ -72,7 +72,7 @@ class Scene {
   bool hasCamera() const { return hasCamera_; }
   const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
   // Lights are chosen in proportion to their power (average over RGB).
-  const Distribution1D& lightDistribution() const { return lightDistribution_; }
+  const AliasTable& lightDistribution() const { return lightDistribution_; }
   Spectrum totalPower() const;
   const std::vector<Material>& materials() const { return materials_; }
   size_t triangleCount() const { return triangles_.size(); }
@@ -100,7 +100,7 @@ class Scene {
   std::vector<Triangle> triangles_;
   std::vector<Material> materials_;
   std::vector<std::unique_ptr<Light>> lights_;
-  Distribution1D lightDistribution_;
+  AliasTable lightDistribution_;
   Camera camera_;
   bool hasCamera_ = false, committed_ = false;
   Bounds bounds_;
