@@ -79,7 +79,7 @@ TEST_CASE("AliasTable picks items in proportion to their weights") {
   CHECK(counts[0] / 40000 == Approx(0.25).margin(0.01));
 }
 
-TEST_CASE("AliasTable: the share of [0, 1) mapped to each item is exactly its pmf") {
+TEST_CASE("AliasTable: the share of the unit interval mapped to each item is exactly its pmf") {
   // Not a statistical test: u runs over a grid of 2²⁰ points, so each item's count divided by
   // 2²⁰ is the measure of u that selects it, which must equal weight/total (to the grid's
   // resolution) for any weights, zeros included, and a zero weight must never be selected.
