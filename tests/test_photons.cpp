@@ -106,11 +106,9 @@ TEST_CASE("photon record: the encoding's SIMD path equals its portable reference
     float dither = i < 8 ? 0.999f : rng.uniform();
     auto type = Photon::Type(i % 3);
     Photon p(Vec3(0), w, f, type, dither);
-    // The exponent as setFlux finds it, then the reference mantissas.
-    float m = maxComponent(f);
-    int e = Photon::exponentOf(m);
-    float scale = Photon::powerOfTwo(8 - e);
-    if (m * scale + dither >= 256.0f) scale *= 0.5f, ++e;
+    // The shared exponent, then the reference mantissas.
+    float scale;
+    int e = Photon::sharedExponent(maxComponent(f), dither, &scale);
     INFO("photon " << i);
     REQUIRE(p.rgbe[0] == Photon::mantissa(f.r, scale, dither));
     REQUIRE(p.rgbe[1] == Photon::mantissa(f.g, scale, dither));

@@ -60,7 +60,7 @@ class AliasTable {
   AliasTable() = default;
   explicit AliasTable(const std::vector<float>& weights);
   // Index i with probability weight_i/total (never a zero-weight item), and that probability.
-  // With no positive weight, returns 0 with pmf 0: callers check total() first.
+  // With no positive weight, any index with pmf 0: callers check total() first.
   size_t sample(float u, float* pmf = nullptr) const;
   float pmf(size_t i) const { return pmf_[i]; }
   size_t size() const { return bins_.size(); }

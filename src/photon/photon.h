@@ -45,9 +45,8 @@ struct Photon {
       std::memset(rgbe, 0, 4);
       return;
     }
-    int e = exponentOf(m);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
-    float scale = powerOfTwo(8 - e);
-    if (m * scale + dither >= 256.0f) scale *= 0.5f, ++e;  // rounds up to 256: next exponent
+    float scale;
+    int e = sharedExponent(m, dither, &scale);
 #if defined(__SSE2__)
     // mantissa() on the three channels at once, bit for bit (tested): the same operations in
     // the same order, and maxps/minps pick NaN's second operand as std::max/min do here. The
@@ -64,6 +63,14 @@ struct Photon {
     rgbe[2] = mantissa(f.b, scale, dither);
     rgbe[3] = uint8_t(e + 128);
 #endif
+  }
+  // The exponent e of the largest channel m > 0, and the scale 2^(8−e) that takes m's mantissa
+  // to [128, 256) after dithering.
+  static int sharedExponent(float m, float dither, float* scale) {
+    int e = exponentOf(m);  // m = frac · 2^e, frac in [0.5, 1): m·2^(8−e) in [128, 256)
+    *scale = powerOfTwo(8 - e);
+    if (m * *scale + dither >= 256.0f) *scale *= 0.5f, ++e;  // rounds up to 256: next exponent
+    return e;
   }
   // Each channel is at most m, so its mantissa is at most m's, below 256 after the exponent
   // step. The clamp covers a compiler fusing one multiply-add into an FMA but not another.
