@@ -29,18 +29,19 @@ inline Camera lookingDown(float height, float yfov = 0.8f) {
 }
 
 // The floor (y = 0) point seen through each pixel, closed form averaged over the pixel
-// (box filter) on a 6×6 grid.
-inline ImageRGB expectedFloorImage(const Scene& scene, int W, int H, const std::function<double(const Vec3&)>& L) {
+// (box filter) on a grid×grid midpoint rule.
+inline ImageRGB expectedFloorImage(const Scene& scene, int W, int H, const std::function<double(const Vec3&)>& L,
+                                   int grid = 6) {
   ImageRGB img(W, H);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       double sum = 0;
-      for (int a = 0; a < 6; ++a)
-        for (int b = 0; b < 6; ++b) {
-          Ray r = scene.camera().generateRay(x + (a + 0.5f) / 6, y + (b + 0.5f) / 6, W, H);
+      for (int a = 0; a < grid; ++a)
+        for (int b = 0; b < grid; ++b) {
+          Ray r = scene.camera().generateRay(x + (a + 0.5f) / grid, y + (b + 0.5f) / grid, W, H);
           sum += L(r.o + (-r.o.y / r.d.y) * r.d);
         }
-      img.set(x, y, Spectrum(float(sum / 36)));
+      img.set(x, y, Spectrum(float(sum / (grid * grid))));
     }
   return img;
 }

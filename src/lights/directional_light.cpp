@@ -23,8 +23,8 @@ bool DirectionalLight::sampleLi(const Vec3&, const Vec2&, LightSample* s) const 
 EmittedRay DirectionalLight::sampleLe(const Vec2& u, const Vec2&) const {
   // Uniform on the disc of radius R facing the light, one radius upstream of the scene.
   Frame frame(direction_);
-  Vec2 d = sampleConcentricDisc(u) * radius_;
-  Vec3 origin = center_ + radius_ * (frame.s * d.x + frame.t * d.y) - direction_ * radius_;
+  Vec2 d = sampleConcentricDisc(u) * radius_;  // a point of the disc, in metres
+  Vec3 origin = center_ + frame.s * d.x + frame.t * d.y - direction_ * radius_;
   return {Ray{origin, direction_}, emit(E_) * (kPi * radius_ * radius_)};
 }
 

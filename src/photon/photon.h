@@ -19,7 +19,8 @@ struct Photon {
     kCaustic = 2,   // L S+ D: only specular bounces before this hit
   };
   // Masks of accepted types for gathers.
-  static constexpr uint8_t kAcceptAll = 0b111, kAcceptIndirect = 1 << kIndirect, kAcceptCaustic = 1 << kCaustic;
+  static constexpr uint8_t kAcceptAll = 0b111, kAcceptIndirect = 1 << kIndirect, kAcceptCaustic = 1 << kCaustic,
+                           kAcceptDirect = 1 << kDirect;
 
   float position[3];
   uint8_t rgbe[4];

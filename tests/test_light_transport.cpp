@@ -1,0 +1,277 @@
+// Every light through every path that carries its light, against closed forms, per point and
+// per pixel (a right mean can hide a wrong level with salt noise around it):
+//   - photons alone: the photon map's direct photons at points of a floor, and PPM images (all
+//     light from photons), so emission sampling (Light::sampleLe) is tested without shadow rays;
+//   - shadow rays alone: the direct-lighting integrator (Light::sampleLi).
+// The scene is a 4 m diffuse floor (ρ = 0.8) under one light; with nothing else to bounce off,
+// the floor's radiance is exactly L = ρ/π · E(x), E from the light's closed form.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "lights/directional_light.h"
+#include "lights/spot_light.h"
+#include "lights/warn_spotlight.h"
+#include "photon/photon_tracer.h"
+#include "progressive/progressive.h"
+#include "render/renderer.h"
+#include "scene_helpers.h"
+
+using namespace pl;
+using namespace pl::test;
+
+namespace {
+
+constexpr float kRho = 0.8f, kHalf = 2.0f;  // floor albedo, half its side (m)
+
+struct LightCase {
+  const char* name;
+  std::function<void(Scene&)> add;      // adds the light (and, for area lights, its geometry)
+  std::function<double(const Vec3&)> E;  // closed-form irradiance on the floor (y = 0, normal +y)
+};
+
+// Lambert's formula for the irradiance from a polygon of uniform radiance L (vertices in order):
+// E = (L/2) Σ_i β_i n·unit(u_i × u_{i+1}), β_i the angle between the unit vectors to vertices
+// i and i+1. Independent of the renderer's sampling.
+double lambertPolygon(const std::vector<Vec3>& v, const Vec3& x, const Vec3& n, double L) {
+  double sum = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    glm::dvec3 a = glm::normalize(glm::dvec3(v[i] - x)), b = glm::normalize(glm::dvec3(v[(i + 1) % v.size()] - x));
+    sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(glm::dvec3(n), glm::normalize(glm::cross(a, b)));
+  }
+  return 0.5 * L * std::abs(sum);
+}
+
+std::vector<LightCase> lightCases() {
+  const float h = 1.0f;  // punctual lights 1 m above the floor's centre, pointing down
+  auto cosAt = [h](const Vec3& x) { return h / std::sqrt(double(h) * h + x.x * x.x + x.z * x.z); };
+  auto r2At = [h](const Vec3& x) { return double(h) * h + x.x * x.x + x.z * x.z; };
+  std::vector<LightCase> cases;
+  // Isotropic point light: E = I cosθ / r².
+  cases.push_back({"point", [](Scene& s) { s.addLight(std::make_unique<PointLight>(Vec3(0, 1, 0), Spectrum(3.0f))); },
+                   [=](const Vec3& x) { return 3.0 * cosAt(x) / r2At(x); }});
+  // glTF spot: I(θ) = I·a², a = clamp((cosθ − cos θo)/(cos θi − cos θo), 0, 1); here θ, the angle
+  // off the axis, is also the angle of incidence.
+  cases.push_back({"spot",
+                   [](Scene& s) {
+                     s.addLight(std::make_unique<SpotLight>(Vec3(0, 1, 0), Vec3(0, -1, 0), Spectrum(5.0f), 0.3f, 0.6f));
+                   },
+                   [=](const Vec3& x) {
+                     double c = cosAt(x), ci = std::cos(0.3), co = std::cos(0.6);
+                     double a = std::clamp((c - co) / (ci - co), 0.0, 1.0);
+                     return 5.0 * a * a * c / r2At(x);
+                   }});
+  // Warn spotlight: I(θ) = c cosˢθ, c = (s + 1)Φ/2π.
+  cases.push_back({"warn",
+                   [](Scene& s) {
+                     s.addLight(std::make_unique<WarnSpotlight>(Vec3(0, 1, 0), Vec3(0, -1, 0),
+                                                                WarnSpotlight::cForPower(Spectrum(20.0f), 8.0f), 8.0f));
+                   },
+                   [=](const Vec3& x) {
+                     double c = cosAt(x);
+                     return (8.0 + 1) * 20.0 / (2 * kPi) * std::pow(c, 8.0) * c / r2At(x);
+                   }});
+  // Directional: E = 2 W/m² on a surface facing it, arriving 30° from the vertical: E cos 30°
+  // on the floor (the case: photons came from a disc of radius R², 0.126 × this).
+  cases.push_back({"directional",
+                   [](Scene& s) {
+                     float t = glm::radians(30.0f);
+                     s.addLight(std::make_unique<DirectionalLight>(Vec3(std::sin(t), -std::cos(t), 0), Spectrum(2.0f)));
+                   },
+                   [](const Vec3&) { return 2.0 * std::cos(glm::radians(30.0)); }});
+  // Area: a 0.6 m × 0.4 m one-sided emitter 1 m up, facing down, Le = 4 (Lambert's formula).
+  const std::vector<Vec3> quad = {{-0.3f, 1, -0.2f}, {0.3f, 1, -0.2f}, {0.3f, 1, 0.2f}, {-0.3f, 1, 0.2f}};
+  cases.push_back({"area",
+                   [quad](Scene& s) {
+                     // Black (ρ = 0): photons coming back from the floor end there.
+                     uint32_t m = s.addMaterial({"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))),
+                                                 Spectrum(4.0f), false});
+                     // Counter-clockwise seen from below: the front face looks down at the floor.
+                     addQuad(s, quad[0], quad[1], quad[2], quad[3], m);
+                   },
+                   [quad](const Vec3& x) { return lambertPolygon(quad, x, Vec3(0, 1, 0), 4.0); }});
+  return cases;
+}
+
+// Floor of side 2·kHalf, the light, a camera 0.9 m up (below the area light) looking down at
+// [−1.2, 1.2]².
+std::unique_ptr<Scene> floorScene(const LightCase& c) {
+  auto scene = std::make_unique<Scene>();
+  addQuad(*scene, {-kHalf, 0, -kHalf}, {-kHalf, 0, kHalf}, {kHalf, 0, kHalf}, {kHalf, 0, -kHalf}, lambertian(*scene, kRho));
+  c.add(*scene);
+  scene->setCamera(lookingDown(0.9f, 2.0f * std::atan(1.2f / 0.9f)));
+  scene->commit();
+  return scene;
+}
+
+// What a fixed-radius uniform-kernel estimate at x converges to: E averaged over the disc of
+// radius r around x, (1/πr²)∫ E dA, by the midpoint rule in polar coordinates.
+double discAverage(const std::function<double(const Vec3&)>& E, const Vec3& x, float r) {
+  const int nr = 24, nphi = 48;
+  double sum = 0, weight = 0;
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < nphi; ++j) {
+      double rho = r * (i + 0.5) / nr, phi = 2 * kPi * (j + 0.5) / nphi;
+      sum += rho * E(x + Vec3(float(rho * std::cos(phi)), 0, float(rho * std::sin(phi))));
+      weight += rho;
+    }
+  return sum / weight;
+}
+
+// Per-pixel agreement of two renders (seeds 1 and 2) with their closed form e (grey scenes: the
+// green channel). Noise differs from pixel to pixel (a spot's cone edge varies within a pixel
+// far more than its centre), so each pixel's error is measured against its own noise level:
+// σ² at a pixel is estimated from the two seeds' differences d = x₁ − x₂ over its 3×3
+// neighbourhood, σ̂² = mean(d²)/2, and t = (x₁ − e)/σ̂ then follows roughly Student's t with 9
+// degrees of freedom (99th percentile of |t|: 3.25). A wrong level shows in the median ratio;
+// salt noise, or a region off by more than its noise, in the 99th percentile of |t|.
+struct PixelAgreement {
+  double medianRatio;  // median of x₁/e over pixels with e above a tenth of the mean
+  double meanRatio;    // mean(x₁ + x₂)/(2 mean(e))
+  double p99t;         // 99th percentile of |t| over all pixels
+};
+PixelAgreement pixelAgreement(const ImageRGB& a, const ImageRGB& b, const ImageRGB& e) {
+  const int W = e.width, H = e.height;
+  const double mean = meanOf(e);
+  auto g = [](const ImageRGB& img, int x, int y) { return double(img.at(x, y).g); };
+  std::vector<double> ratio, t;
+  double sum = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      double d2 = 0;
+      int n = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int u = std::clamp(x + dx, 0, W - 1), v = std::clamp(y + dy, 0, H - 1);
+          double d = g(a, u, v) - g(b, u, v);
+          d2 += d * d, ++n;
+        }
+      // A floor of 10⁻⁴ of the mean level: exact estimators (a directional light's shadow rays) have no noise.
+      double sigma = std::max(std::sqrt(d2 / n / 2), 1e-4 * mean);
+      t.push_back(std::abs(g(a, x, y) - g(e, x, y)) / sigma);
+      if (g(e, x, y) > 0.1 * mean) ratio.push_back(g(a, x, y) / g(e, x, y));
+      sum += g(a, x, y) + g(b, x, y);
+    }
+  std::sort(ratio.begin(), ratio.end());
+  std::sort(t.begin(), t.end());
+  return {ratio[ratio.size() / 2], sum / (2 * mean * W * H), t[size_t(0.99 * (t.size() - 1))]};
+}
+
+}  // namespace
+
+TEST_CASE("photons alone: every light's direct photons reproduce its closed-form irradiance point by point") {
+  // 1M emitted paths; the global map's direct photons (L D) gathered with a fixed radius r and
+  // the uniform kernel at a 17×17 grid of floor points (every 15 cm over [−1.2, 1.2]², so the
+  // spot's falloff ring is crossed), wherever E is above a tenth of its maximum. The
+  // estimate's expectation is the disc average of E (by quadrature here, so the kernel's blur
+  // is accounted for), and its standard deviation σ² = Σ Φp²/(πr²)² comes from the photons
+  // found (a compound Poisson count). Accepted: every |z| < 5.5 (≤ 289 points: a false alarm
+  // has probability ~10⁻⁵ for normal errors; over seeds 7–11 the largest was 4.7); mean z² < 2 (expectation 1; with n ≥ 30 points P(> 2) < 10⁻³); and
+  // |Σz/√n| < 4 (a standard normal), which catches a flux off by 2% (z ≈ 0.5 per point, so
+  // Σz/√n ≈ 0.5√n ≥ 4 for n ≥ 64). A light whose photons leave from the wrong place fails by
+  // many σ at once.
+  const float r = 0.06f;
+  for (const LightCase& c : lightCases()) {
+    INFO(c.name);
+    auto scene = floorScene(c);
+    PhotonTracingOptions o;
+    o.globalPaths = 1000000;
+    o.causticPaths = 0;
+    o.seed = 7;
+    PhotonMaps maps = tracePhotons(*scene, o);
+    std::vector<Neighbour> found;
+    double maxE = 0;
+    auto gridPoint = [](int i, int j) { return Vec3(-1.2f + 0.15f * i, 0, -1.2f + 0.15f * j); };
+    for (int i = 0; i < 17; ++i)
+      for (int j = 0; j < 17; ++j) maxE = std::max(maxE, c.E(gridPoint(i, j)));
+    double maxZ = 0, sumZ2 = 0, sumZ = 0;
+    int n = 0;
+    for (int i = 0; i < 17; ++i)
+      for (int j = 0; j < 17; ++j) {
+        Vec3 x = gridPoint(i, j);
+        double expected = discAverage(c.E, x, r);
+        maps.global.withinRadius(x, Vec3(0, 1, 0), Photon::kAcceptDirect, r, &found);
+        double sum = 0, sum2 = 0;
+        for (const Neighbour& nb : found) {
+          double phi = maps.global.flux(maps.global.photons()[nb.index]).g;
+          sum += phi;
+          sum2 += phi * phi;
+        }
+        const double area = kPi * r * r;
+        if (expected < 1e-9) {  // outside the spot's cone: no photon may land
+          CHECK(found.empty());
+          continue;
+        }
+        if (expected < 0.1 * maxE) continue;  // a narrow lobe's tail: too few photons for z
+        REQUIRE(found.size() >= 30);  // enough photons for the normal approximation
+        double z = (sum / area - expected) / (std::sqrt(sum2) / area);
+        INFO("x = (" << x.x << ", " << x.z << "): E " << sum / area << ", expected " << expected << ", z " << z);
+        CHECK(std::abs(z) < 5.5);
+        maxZ = std::max(maxZ, std::abs(z));
+        sumZ2 += z * z;
+        sumZ += z;
+        ++n;
+      }
+    INFO("max |z| " << maxZ << ", mean z² " << sumZ2 / n << ", Σz/√n " << sumZ / std::sqrt(n) << ", n " << n);
+    REQUIRE(n >= 30);
+    CHECK(sumZ2 / n < 2.0);
+    CHECK(std::abs(sumZ / std::sqrt(n)) < 4.0);
+  }
+}
+
+TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - median and 99th percentile") {
+  // PPM takes all light, direct included, from photons: 32×32 pixels, 24 passes of 100k paths,
+  // initial radius 3 cm, seeds 1 and 2. Accepted: median ratio within 1 ± 0.02 (the per-pixel
+  // noise is 8–15%, so its standard error over ~10³ pixels is < 0.6%), the mean ratio within
+  // 1 ± 0.02, and the 99th percentile of |t| below 4.5 (3.25 for t₉; the margin covers the
+  // neighbourhood's uneven noise). The directional light's bug gave a ratio of 0.126.
+  const int W = 32;
+  for (const LightCase& c : lightCases()) {
+    INFO(c.name);
+    auto scene = floorScene(c);
+    ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
+    ImageRGB img[2];
+    for (int i = 0; i < 2; ++i) {
+      auto ppm = makeProgressiveIntegrator("ppm");
+      RenderOptions ro;
+      ro.width = ro.height = W;
+      ro.seed = uint64_t(1 + i);
+      ProgressiveOptions po;
+      po.passes = 24;
+      po.photonsPerPass = 100000;
+      po.radius = 0.03f;
+      img[i] = ppm->render(*scene, ro, po, {}, nullptr);
+    }
+    PixelAgreement pa = pixelAgreement(img[0], img[1], expected);
+    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+    CHECK(pa.medianRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.meanRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.p99t < 4.5);
+  }
+}
+
+TEST_CASE("shadow rays alone: direct lighting of every light matches ρ/π·E per pixel") {
+  // The direct integrator: one light sample per camera sample (delta lights: exact, so only
+  // the pixel jitter varies; the area light: a solid-angle estimator), 32×32 pixels, 16 spp,
+  // seeds 1 and 2. Same acceptance as the photons' test, with a 1% median (noise is ~3%).
+  const int W = 32;
+  for (const LightCase& c : lightCases()) {
+    INFO(c.name);
+    auto scene = floorScene(c);
+    ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
+    ImageRGB img[2];
+    for (int i = 0; i < 2; ++i) {
+      auto direct = makeIntegrator("direct", {});
+      RenderOptions ro;
+      ro.width = ro.height = W;
+      ro.spp = 16;
+      ro.seed = uint64_t(1 + i);
+      img[i] = render(*scene, *direct, ro, nullptr);
+    }
+    PixelAgreement pa = pixelAgreement(img[0], img[1], expected);
+    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+    CHECK(pa.medianRatio == Approx(1.0).margin(0.01));
+    CHECK(pa.meanRatio == Approx(1.0).margin(0.01));
+    CHECK(pa.p99t < 4.5);
+  }
+}
