@@ -92,6 +92,23 @@ integrator = "path"
   CHECK(c.reference.settings.image.width == 32);
 }
 
+TEST_CASE("experiment config: the reference draws from seed -1 - no run can - an explicit one a run uses is refused") {
+  ConfigFixture f;
+  // Default: its own stream, −1, whatever the runs' seeds (before: the experiment's first seed).
+  auto c = f.parse("seeds = [1, 2]\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
+  CHECK(c.reference.settings.image.seed == kReferenceSeed);
+  CHECK(seedString(kReferenceSeed) == "-1");
+  CHECK(resolvedConfigToml(c, {}).find("seed = -1") != std::string::npos);  // and it round-trips
+  CHECK(f.parse(resolvedConfigToml(c, {})).reference.settings.image.seed == kReferenceSeed);
+  // Explicit: any seed no run uses, negative ones included.
+  CHECK(f.parse(kHead + "seed = 9\n[[run]]\nintegrator = \"path\"\nseeds = [1, 2]\n").reference.settings.image.seed == 9);
+  CHECK(f.parse(kHead + "seed = -5\n[[run]]\nintegrator = \"path\"\n").reference.settings.image.seed == uint64_t(-5));
+  std::string e = f.error(kHead + "seed = 7\n[[run]]\nintegrator = \"path\"\n[[run]]\nintegrator = \"path\"\nseeds = [3, 7]\n");
+  CHECK_THAT(e, Contains(f.path() + ":7: reference.seed: seed 7 is also a seed of run[2]"));
+  // Run seeds are 0 or more.
+  CHECK_THAT(f.error(kHead + "[[run]]\nintegrator = \"path\"\nseed = -1\n"), Contains("run[1].seed: must be from 0"));
+}
+
 TEST_CASE("experiment config: mistakes name the file - line and key") {
   ConfigFixture f;
   const std::string p = f.path();

@@ -1,7 +1,10 @@
 // photonlab command line: render, info, compare, bench. Every user error ends as one line on
 // stderr ("photonlab: FILE: ELEMENT: what") and exit code 1; no output file is left behind.
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <chrono>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -25,6 +28,22 @@ using namespace pl;
 namespace fs = std::filesystem;
 
 namespace {
+
+// A metadata value as JSON: an integer or a finite real number when the whole text is one,
+// else the text.
+nlohmann::ordered_json jsonValue(const std::string& v) {
+  if (v.empty()) return v;
+  int64_t i;
+  auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), i);
+  if (ec == std::errc() && end == v.data() + v.size()) return i;
+  uint64_t u;
+  auto [uend, uec] = std::from_chars(v.data(), v.data() + v.size(), u);
+  if (uec == std::errc() && uend == v.data() + v.size()) return u;
+  char* dend = nullptr;
+  double d = std::strtod(v.c_str(), &dend);
+  if (dend == v.c_str() + v.size() && std::isfinite(d) && !std::isspace(static_cast<unsigned char>(v[0]))) return d;
+  return v;
+}
 
 std::unique_ptr<Scene> loadScene(const std::string& path) {
   std::vector<std::string> warnings;
@@ -99,21 +118,25 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   return 0;
 }
 
-// An image's photonlab metadata as one JSON object of strings.
+// An image's photonlab metadata as one JSON object: numbers as JSON numbers, text as strings.
 int cmdImageInfo(const std::string& imagePath) {
   auto meta = readImageMetadata(imagePath);
   ImageRGB image = readImage(imagePath);
-  std::printf("{\"width\": \"%d\", \"height\": \"%d\"", image.width, image.height);
+  // Values that are text even when they happen to look like a number (a hash of digits only).
+  static const std::set<std::string> text = {"integrator", "scene", "kernel", "aov", "label", "experiment",
+                                             "reference_file", "cache_key", "git_revision", "cpu", "tonemap"};
+  nlohmann::ordered_json j;
+  j["width"] = image.width;
+  j["height"] = image.height;
   for (auto& [key, value] : meta) {
     if (key == "width" || key == "height") continue;
-    std::string escaped;
-    for (char c : value) {
-      if (c == '"' || c == '\\') escaped += '\\';
-      escaped += c;
-    }
-    std::printf(", \"%s\": \"%s\"", key.c_str(), escaped.c_str());
+    j[key] = text.count(key) ? nlohmann::ordered_json(value) : jsonValue(value);
   }
-  std::printf("}\n");
+  // One line, with a space after ':' and ',' (as `compare` prints).
+  std::string line = "{";
+  for (auto it = j.begin(); it != j.end(); ++it)
+    line += (it == j.begin() ? "" : ", ") + nlohmann::ordered_json(it.key()).dump() + ": " + it.value().dump();
+  std::printf("%s}\n", line.c_str());
   return 0;
 }
 
@@ -182,7 +205,8 @@ int main(int argc, char** argv) {
   render->add_option("--height", options.height, "Image height in pixels");
   auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
   render->add_option("--time", options.timeLimit, "Stop at the first sample boundary after this many seconds");
-  render->add_option("--seed", options.seed, "Random seed")->capture_default_str();
+  int64_t seed = 1;
+  render->add_option("--seed", seed, "Random seed, 0 or more (experiments' references use -1)")->capture_default_str();
   render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
   render->add_option("--max-depth", integratorOptions.maxDepth, "Maximum number of bounces")->capture_default_str();
   render->add_flag("-q,--quiet", quiet, "No summary line");
@@ -262,6 +286,8 @@ int main(int argc, char** argv) {
       if (options.spp < 1) throw Error("--spp: must be at least 1");
       if (!(options.timeLimit >= 0) || !std::isfinite(options.timeLimit)) throw Error("--time: must be ≥ 0 seconds");
       if (options.threads < 0) throw Error("--threads: must be ≥ 0");
+      if (seed < 0) throw Error("--seed: must be 0 or more, got " + std::to_string(seed));
+      options.seed = uint64_t(seed);
       if (integratorOptions.maxDepth < 0) throw Error("--max-depth: must be ≥ 0");
       integratorOptions.density.kernel = parseKernel(kernelName);
       if (integratorOptions.density.k < 1) throw Error("--k: must be at least 1");

@@ -298,8 +298,9 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
   } else {
     p.runSettings(*ref, "reference", {"seed"}, &c.reference.settings);
   }
-  c.reference.settings.image.seed = seeds.front();
-  if (const toml::node* s = ref->get("seed")) c.reference.settings.image.seed = uint64_t(p.integer(*s, "reference.seed", 0, INT64_MAX));
+  const toml::node* referenceSeed = ref->get("seed");
+  c.reference.settings.image.seed =
+      referenceSeed ? uint64_t(p.integer(*referenceSeed, "reference.seed", INT64_MIN, INT64_MAX)) : kReferenceSeed;
 
   // [[run]]
   if (!runNode) p.fail(1, "run", "missing: at least one [[run]] table");
@@ -328,6 +329,16 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     if (!labels.insert(r.label).second) p.fail(r.line, prefix + ".label", "'" + r.label + "' is used by another run");
     c.runs.push_back(std::move(r));
   }
+  // An explicit reference seed must not be a run's: the run would be scored against an image
+  // made from its own random numbers.
+  if (referenceSeed && int64_t(c.reference.settings.image.seed) >= 0)
+    for (size_t i = 0; i < c.runs.size(); ++i)
+      for (uint64_t s : c.runs[i].seeds)
+        if (s == c.reference.settings.image.seed)
+          p.fail(referenceSeed, "reference.seed",
+                 "seed " + std::to_string(s) + " is also a seed of run[" + std::to_string(i + 1) + "] ('" + c.runs[i].label +
+                     "'): the reference must not share random numbers with a run (leave it out: the reference then "
+                     "draws from seed -1, which no run can use)");
   for (RunSettings* s : allSettings(c)) {
     s->image.width = c.width;
     s->image.height = c.height;

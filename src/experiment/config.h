@@ -32,9 +32,15 @@ struct RunConfig {
   int line = 0;  // where the run starts in the config, for messages
 };
 
+// Seeds are signed 64-bit integers. Runs take seeds ≥ 0; the reference, unless its config
+// names a seed, draws from seed −1, a stream no run can reach: a reference sharing random numbers
+// with a run would make that run's error look smaller than it is (README, "The reference").
+constexpr uint64_t kReferenceSeed = ~uint64_t(0);  // −1 as a signed seed
+inline std::string seedString(uint64_t seed) { return std::to_string(int64_t(seed)); }
+
 struct ReferenceConfig {
   std::string file;      // an existing image (absolute path), or empty: render `settings`
-  RunSettings settings;  // seed = the experiment's first seed
+  RunSettings settings;  // seed: kReferenceSeed, or the [reference] table's seed
 };
 
 struct ExperimentConfig {

@@ -76,7 +76,7 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
 
 std::map<std::string, std::string> runMetadata(const RunSettings& s, const CheckpointInfo& info, const std::string& scenePath) {
   std::map<std::string, std::string> m = {
-      {"integrator", s.integrator},         {"seed", std::to_string(s.image.seed)},
+      {"integrator", s.integrator},         {"seed", seedString(s.image.seed)},
       {"seconds", formatNumber(info.seconds)},    {"scene", scenePath},
       {"max_depth", std::to_string(s.options.maxDepth)},
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
@@ -160,7 +160,7 @@ std::string sceneBytes(const std::string& scenePath) {
 }
 
 // Bump when a change to the renderers makes cached references wrong.
-constexpr int kReferenceCacheVersion = 1;
+constexpr int kReferenceCacheVersion = 2;  // 2: directional lights' photons fixed
 
 std::string slug(const std::string& label) {
   std::string s;
