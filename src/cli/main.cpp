@@ -83,9 +83,15 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   auto scene = loadScene(scenePath);
   resolveResolution(scene->camera(), s.image);
   const bool progressive = isProgressive(s.integrator);
-  if (progressive && s.progressive.radius <= 0) s.progressive.radius = defaultRadius(*scene, s.image.width, s.image.height);
-  if (progressive && !quiet)
-    std::fprintf(stderr, "%s: initial radius %g m, alpha %g\n", s.integrator.c_str(), s.progressive.radius, s.progressive.alpha);
+  if (progressive && s.progressive.radius <= 0) {
+    DefaultRadius r = defaultRadius(*scene, s.image.width, s.image.height);
+    s.progressive.radius = r.radius;
+    if (!quiet)
+      std::fprintf(stderr, "%s: initial radius %g m (default: %g pixel footprints at the median visible distance %g m)\n",
+                   s.integrator.c_str(), r.radius, DefaultRadius::kFootprints, r.distance);
+  } else if (progressive && !quiet) {
+    std::fprintf(stderr, "%s: initial radius %g m\n", s.integrator.c_str(), s.progressive.radius);
+  }
   RunCheckpointFn checkpoint;
   if (checkpoints) {
     checkpoint = [&](const ImageRGB& image, const CheckpointInfo& info) {

@@ -286,7 +286,7 @@ class Experiment {
       // The progressive methods' default radius depends on the scene: fill it in, so that the
       // resolved config and the images' metadata say what was used.
       if (isProgressive(s->integrator) && s->progressive.radius <= 0)
-        s->progressive.radius = defaultRadius(*scene_, c_.width, c_.height);
+        s->progressive.radius = defaultRadius(*scene_, c_.width, c_.height).radius;
     }
     // The fingerprint of what would be rendered; threads do not change results (deterministic).
     std::string key = c_.scene + "\n" + c_.reference.file + "\n" + settingsFingerprint(c_.reference.settings);

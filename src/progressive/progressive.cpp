@@ -73,11 +73,48 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
   return stats.empty() ? 0.0 : sum / stats.size();
 }
 
-float defaultRadius(const Scene& scene, int width, int height) {
+DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
+  // The distances at which the camera sees the surfaces photons are gathered on: a 32×32 grid
+  // of rays over the image, each followed through mirrors and glass (stream keyed by its grid
+  // index, so the result is deterministic) to its first diffuse or glossy point.
   const Camera& c = scene.camera();
-  float distance = std::max(glm::length(scene.bounds().center() - c.position), 1e-3f);
-  float footprint = 2.0f * distance * std::tan(0.5f * c.yfov) / float(height);
-  return 5.0f * footprint;
+  const int n = 32;
+  std::vector<float> distances;
+  distances.reserve(n * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      Rng rng = Rng::keyed(0x726164697573ULL, uint64_t(j) * n + i, 0);  // "radius"
+      Ray ray = c.generateRay((i + 0.5f) * width / n, (j + 0.5f) * height / n, width, height);
+      float travelled = 0;
+      for (int depth = 0; depth < 16; ++depth) {
+        SurfaceHit hit;
+        if (!scene.intersect(ray, &hit)) break;
+        travelled += hit.t;
+        if (!hit.bsdf->isDelta()) {
+          distances.push_back(travelled);
+          break;
+        }
+        BSDFSample s;
+        Vec3 wo = hit.shading.toLocal(-ray.d);
+        if (!hit.bsdf->sample(wo, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
+          break;
+        ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+      }
+    }
+  DefaultRadius r;
+  r.visiblePoints = distances.size();
+  if (distances.empty()) {
+    // Nothing diffuse in view: the distance to the scene's centre, at least its radius.
+    r.distance = std::max(glm::length(scene.bounds().center() - c.position), scene.bounds().radius());
+  } else {
+    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+    r.distance = distances[distances.size() / 2];
+  }
+  // A pixel's footprint at that distance (the film spans 2 d tan(fov/2) vertically).
+  r.footprint = 2.0f * r.distance * std::tan(0.5f * c.yfov) / float(height);
+  r.radius = DefaultRadius::kFootprints * r.footprint;
+  if (!(r.radius > 0) || !std::isfinite(r.radius)) r.radius = 1e-3f * std::max(scene.bounds().radius(), 1e-3f);
+  return r;
 }
 
 PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& o) {
@@ -90,7 +127,7 @@ PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const Pr
   s.pixels = size_t(s.width) * s.height;
   checkMemory(mulSaturate(s.pixels, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float)),
               std::to_string(s.width) + "x" + std::to_string(s.height) + " progressive image");
-  s.initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, s.width, s.height);
+  s.initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, s.width, s.height).radius;
   return s;
 }
 
