@@ -83,9 +83,26 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   expectCleanFailure(photon + "--final-gather -1", out, "--final-gather");
   expectCleanFailure(photon + "--aov depth", out, "--aov");
   expectCleanFailure("render " + scene + " -o " + out + " --aov photons", out, "--aov");
+  // Values that used to fall back silently to a default, or wrapped around.
+  expectCleanFailure("render " + scene + " -o " + out + " --width 0", out, "--width: must be at least 1 pixel, got 0");
+  expectCleanFailure("render " + scene + " -o " + out + " --height 0", out, "--height: must be at least 1 pixel");
+  expectCleanFailure("render " + scene + " -o " + out + " --time 0", out, "--time: must be a number of seconds above 0");
+  expectCleanFailure("render " + scene + " -o " + out + " --seed -1", out, "--seed: must be 0 or more, got -1");
+  // An unknown integrator lists all seven.
+  Result u = run("render " + scene + " -o " + out + " --integrator bdpt");
+  CHECK(u.code == 1);
+  CHECK_THAT(u.err, Contains("unknown integrator 'bdpt' (direct, whitted, path, photon, ppm, sppm, pppm)"));
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));
+}
+
+TEST_CASE("cli: photonlab alone prints its usage") {
+  Result r = run("");
+  CHECK(r.code == 0);
+  CHECK_THAT(r.out, Contains("render"));
+  CHECK_THAT(r.out, Contains("compare"));
+  CHECK_THAT(r.out, Contains("Usage"));
 }
 
 TEST_CASE("cli: info reports the lights' power in watts") {

@@ -146,7 +146,7 @@ TEST_CASE("robustness: photon counts and resolutions beyond the available memory
   auto path = makeIntegrator("path", io);
   CHECK_THROWS_WITH(render(*scene, *path, o, nullptr), Contains("20000x20000 image: needs"));
   ProgressiveOptions po;
-  CHECK_THROWS_WITH(preparePasses(*scene, o, po), Contains("20000x20000 progressive image: needs"));
+  CHECK_THROWS_WITH(PassSetup(*scene, o, po), Contains("20000x20000 progressive image: needs"));
   ::unsetenv("PHOTONLAB_MEMORY_LIMIT");
 }
 

@@ -1,5 +1,7 @@
 // photonlab command line: render, info, compare, bench. Every user error ends as one line on
 // stderr ("photonlab: FILE: ELEMENT: what") and exit code 1; no output file is left behind.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <chrono>
@@ -81,6 +83,9 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   for (auto& o : outputs) checkOutputPath(o);
   if (!isProgressive(s.integrator)) makeIntegrator(s.integrator, s.options);  // validates the name first
   auto scene = loadScene(scenePath);
+  // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
+  // the tree build, and the image so far is written (before, it ended the process at once).
+  setInterruptCooperative(true);
   resolveResolution(scene->camera(), s.image);
   const bool progressive = isProgressive(s.integrator);
   if (progressive && s.progressive.radius <= 0) {
@@ -91,6 +96,15 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
                    s.integrator.c_str(), r.radius, DefaultRadius::kFootprints, r.distance);
   } else if (progressive && !quiet) {
     std::fprintf(stderr, "%s: initial radius %g m\n", s.integrator.c_str(), s.progressive.radius);
+  }
+  if (!quiet && isatty(STDERR_FILENO)) {  // beside the progress bar; a log gets only the summary (or one error line)
+    std::string work = progressive ? (s.progressive.passes == INT32_MAX ? "" : std::to_string(s.progressive.passes) + " passes")
+                                   : (s.image.spp > 0 ? std::to_string(s.image.spp) + " spp" : "");
+    if (s.image.timeLimit > 0)
+      work = work.empty() ? "for " + formatNumber(s.image.timeLimit) + " s"
+                          : work + " or " + formatNumber(s.image.timeLimit) + " s, whichever ends first";
+    std::fprintf(stderr, "%s: rendering %dx%d, %s\n", s.integrator.c_str(), s.image.width, s.image.height,
+                 work.empty() ? "until interrupted" : work.c_str());
   }
   RunCheckpointFn checkpoint;
   if (checkpoints) {
@@ -114,13 +128,23 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   for (auto& o : outputs) writeImage(o, image, meta);
   if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
   if (quiet) return 0;
+  // The work done: "12 passes", or "12.4 passes (the budget ended pass 13 after 40% of the pixels)".
+  const int whole = progressive ? info.passes : info.spp;
+  std::string work = std::to_string(whole) + (progressive ? " passes" : " spp");
+  if (info.meanWork != whole) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%.2f %s (the last one reached %.0f%% of the pixels)", info.meanWork,
+                  progressive ? "passes" : "spp", 100.0 * (info.meanWork - whole));
+    work = buf;
+  }
+  std::string budget = s.image.timeLimit > 0 ? " of a " + formatNumber(s.image.timeLimit) + " s budget" : "";
   if (progressive)
-    std::fprintf(stderr, "%s: %dx%d, %d passes, %llu photon paths, %.2f s, mean radius %g m -> %s\n", s.integrator.c_str(),
-                 s.image.width, s.image.height, info.passes, (unsigned long long)info.photons, info.seconds,
-                 info.meanRadius, outputs.front().c_str());
+    std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, mean radius %g m -> %s\n", s.integrator.c_str(),
+                 s.image.width, s.image.height, work.c_str(), (unsigned long long)info.photons, info.seconds,
+                 budget.c_str(), info.meanRadius, outputs.front().c_str());
   else
-    std::fprintf(stderr, "%s: %dx%d, %d spp, %.2f s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height, info.spp,
-                 info.seconds, outputs.front().c_str());
+    std::fprintf(stderr, "%s: %dx%d, %s, %.2f s%s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height,
+                 work.c_str(), info.seconds, budget.c_str(), outputs.front().c_str());
   return 0;
 }
 
@@ -195,7 +219,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   CLI::App app{"photonlab: light transport by photon mapping, with a path-traced ground truth"};
-  app.require_subcommand(1);
+  app.require_subcommand(0, 1);
 
   std::string scenePath, integratorName = "path";
   std::vector<std::string> outputs;
@@ -205,12 +229,12 @@ int main(int argc, char** argv) {
   auto* render = app.add_subcommand("render", "Render a glTF scene to EXR (linear) and/or PNG (sRGB)");
   render->add_option("scene", scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
   render->add_option("-o,--output", outputs, "Output image(s): .exr or .png; repeat for both")->required();
-  render->add_option("--integrator", integratorName, "direct | whitted | path | photon | ppm | sppm | pppm")
-      ->capture_default_str();
-  render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
-  render->add_option("--height", options.height, "Image height in pixels");
+  render->add_option("--integrator", integratorName, "One of: " + integratorList())->capture_default_str();
+  auto* widthOpt = render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
+  auto* heightOpt = render->add_option("--height", options.height, "Image height in pixels");
   auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
-  render->add_option("--time", options.timeLimit, "Stop at the first sample boundary after this many seconds");
+  auto* timeOpt = render->add_option("--time", options.timeLimit,
+                                     "Time budget in seconds: the render stops when it is spent, wherever it is");
   int64_t seed = 1;
   render->add_option("--seed", seed, "Random seed, 0 or more (experiments' references use -1)")->capture_default_str();
   render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
@@ -281,16 +305,23 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  installInterruptHandlers();
+  if (argc <= 1) {  // no subcommand: the usage
+    std::printf("%s", app.help().c_str());
+    return 0;
+  }
+  installInterruptHandlers();  // an interrupt ends the process at once until the work can stop cleanly
   try {
     if (*run) {
       if (experiment.threads < -1) throw Error("--threads: must be ≥ 0");
       return runExperiment(experimentPath, experiment);
     }
     if (*render) {
-      if (options.width < 0 || options.height < 0) throw Error("--width/--height: must be positive");
+      if (widthOpt->count() && options.width < 1) throw Error("--width: must be at least 1 pixel, got " + std::to_string(options.width));
+      if (heightOpt->count() && options.height < 1)
+        throw Error("--height: must be at least 1 pixel, got " + std::to_string(options.height));
       if (options.spp < 1) throw Error("--spp: must be at least 1");
-      if (!(options.timeLimit >= 0) || !std::isfinite(options.timeLimit)) throw Error("--time: must be ≥ 0 seconds");
+      if (timeOpt->count() && (!(options.timeLimit > 0) || !std::isfinite(options.timeLimit)))
+        throw Error("--time: must be a number of seconds above 0, got " + formatNumber(options.timeLimit));
       if (options.threads < 0) throw Error("--threads: must be ≥ 0");
       if (seed < 0) throw Error("--seed: must be 0 or more, got " + std::to_string(seed));
       options.seed = uint64_t(seed);

@@ -8,11 +8,12 @@
 namespace pl {
 namespace {
 
-std::atomic<bool> gInterrupted{false};
+std::atomic<bool> gInterrupted{false}, gCooperative{false};
 std::atomic<int> gSignal{0};
 static_assert(std::atomic<bool>::is_always_lock_free, "the flag must be safe to set from a signal handler");
 
 extern "C" void onInterruptSignal(int sig) {
+  if (!gCooperative.load()) _exit(128 + sig);         // nothing to save yet: stop now
   if (gInterrupted.exchange(true)) _exit(128 + sig);  // second signal: stop now
   gSignal = sig;
 }
@@ -28,6 +29,7 @@ void installInterruptHandlers() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
+void setInterruptCooperative(bool cooperative) { gCooperative = cooperative; }
 void requestInterrupt() { gInterrupted = true; }
 bool interruptRequested() { return gInterrupted.load(std::memory_order_relaxed); }
 int interruptSignal() { return gSignal.load(); }

@@ -1,6 +1,9 @@
 #include "core/memory.h"
 
+#include <sys/mman.h>
 #include <unistd.h>
+
+#include <new>
 
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +42,17 @@ void checkMemory(uint64_t bytes, const std::string& what) {
   std::snprintf(buf, sizeof buf, ": needs %.3g GiB, but only %.3g GiB of memory is available", double(bytes) / (1u << 30),
                 double(available) / (1u << 30));
   throw Error(what + buf);
+}
+
+void* allocateLarge(size_t bytes) {
+  if (bytes == 0) return nullptr;
+  void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  return p;
+}
+
+void freeLarge(void* p, size_t bytes) {
+  if (p && bytes) munmap(p, bytes);
 }
 
 }  // namespace pl

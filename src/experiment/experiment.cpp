@@ -32,11 +32,12 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
       CheckpointInfo c;
       c.seconds = p.seconds;
       c.passes = p.passes;
+      c.meanWork = p.meanPasses;
       c.photons = p.photons;
       c.meanRadius = p.meanRadius;
       c.interrupted = p.interrupted;
-      c.last = p.interrupted || p.passes == s.progressive.passes ||
-               (s.progressive.timeLimit > 0 && p.seconds >= s.progressive.timeLimit);
+      c.timeUp = p.timeUp;
+      c.last = p.last;
       return c;
     };
     PassInfo info;
@@ -55,9 +56,11 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
     CheckpointInfo c;
     c.seconds = st.seconds;
     c.spp = st.spp;
+    c.meanWork = st.meanSpp;
     c.photons = photons;
     c.interrupted = st.interrupted;
-    c.last = st.interrupted || st.spp == s.image.spp || (s.image.timeLimit > 0 && st.seconds >= s.image.timeLimit);
+    c.timeUp = st.timeUp;
+    c.last = st.last;
     return c;
   };
   RenderOptions o = s.image;
@@ -82,6 +85,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
   if (isProgressive(s.integrator)) {
     m["passes"] = std::to_string(info.passes);
+    if (info.meanWork != info.passes) m["mean_passes"] = formatNumber(info.meanWork);
     m["photons"] = std::to_string(info.photons);
     m["photons_per_pass"] = std::to_string(s.progressive.photonsPerPass);
     m["alpha"] = formatNumber(s.progressive.alpha);
@@ -89,6 +93,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
     m["initial_radius"] = formatNumber(s.progressive.radius);
   } else {
     m["spp"] = std::to_string(info.spp);
+    if (info.meanWork != info.spp) m["mean_spp"] = formatNumber(info.meanWork);
   }
   if (s.integrator == "photon") {
     const auto& d = s.options.density;
@@ -103,6 +108,8 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   }
   if (s.image.nanAov) m["aov"] = "nan";
   if (s.image.spectral) m["spectral"] = "1";
+  if (s.image.timeLimit > 0) m["time_budget"] = formatNumber(s.image.timeLimit);
+  if (info.timeUp) m["time_up"] = "1";
   if (info.interrupted) m["partial"] = "1";
   return m;
 }
@@ -261,6 +268,7 @@ class Experiment {
     std::vector<std::string> warnings;
     scene_ = loadGltf(c_.scene, &warnings);
     for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    setInterruptCooperative(true);  // from here on an interrupt keeps what is finished (README)
     resolveSizes();
     chooseFolder();
     renderReference();

@@ -17,10 +17,13 @@ struct CheckpointInfo {
   double seconds = 0.0;  // render time so far (checkpoint writing excluded)
   int spp = 0;           // samples per pixel (spp-based integrators)
   int passes = 0;        // photon passes (progressive integrators)
+  double meanWork = 0.0;  // spp or passes per pixel on average: more than spp/passes when the
+                          // budget cut the last pass short, after it reached some pixels
   uint64_t photons = 0;  // photon paths emitted so far (photon, ppm, sppm, pppm)
   double meanRadius = 0.0;
   bool last = false;         // the run's final image
   bool interrupted = false;  // stopped by SIGINT/SIGTERM: a partial result
+  bool timeUp = false;       // stopped because the time budget was spent
 };
 using RunCheckpointFn = std::function<void(const ImageRGB&, const CheckpointInfo&)>;
 

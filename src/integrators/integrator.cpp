@@ -12,10 +12,16 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Integr
   if (name == "whitted") return std::make_unique<WhittedIntegrator>(options.maxDepth);
   if (name == "path") return std::make_unique<PathIntegrator>(options.maxDepth);
   if (name == "photon") return std::make_unique<PhotonIntegrator>(options);
-  throw Error("--integrator: unknown integrator '" + name + "' (direct, whitted, path, photon)");
+  throw Error("--integrator: unknown integrator '" + name + "' (" + integratorList() + ")");
 }
 
-std::vector<std::string> integratorNames() { return {"direct", "whitted", "path", "photon"}; }
+std::vector<std::string> integratorNames() { return {"direct", "whitted", "path", "photon", "ppm", "sppm", "pppm"}; }
+
+std::string integratorList() {
+  std::string s;
+  for (auto& n : integratorNames()) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis) {
   const AliasTable& dist = scene.lightDistribution();

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/budget.h"
 #include "core/rng.h"
 #include "photon/kernels.h"
 #include "scene/scene.h"
@@ -25,8 +26,9 @@ struct IntegratorOptions {
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  // Work done once before the first sample (photon tracing). Deterministic for a seed.
-  virtual void preprocess(const Scene& scene, uint64_t seed, int threads) {}
+  // Work done once before the first sample (photon tracing). Deterministic for a seed. It polls
+  // the render's budget: when that expires the render stops, whatever preprocess() has left.
+  virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
   virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
   virtual const char* name() const = 0;
   // Things the user should know (e.g. "no photons were stored"), printed by the CLI.
@@ -34,7 +36,10 @@ class Integrator {
 };
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
+// Every integrator's name: the per-sample ones above and the progressive ones
+// (progressive/progressive.h); integratorList() joins them for messages.
 std::vector<std::string> integratorNames();
+std::string integratorList();
 
 // Next-event estimation at a non-delta surface point: one light chosen by power, one point on
 // it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by

@@ -2,7 +2,7 @@
 
 namespace pl {
 
-void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads) {
+void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {
   // Bound every gather: without a maximum radius a query where no photon can arrive (e.g. the
   // gap between a light and the ceiling, seen from the gap) grows until it collects photons of
   // other surfaces, which is both wrong and slow. Default: 5% of the scene's bounding radius.
@@ -16,7 +16,15 @@ void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads
   t.threads = threads;
   t.maxDepth = o_.maxDepth;
   t.spectral = o_.spectral;
+  t.budget = &budget;
   maps_ = tracePhotons(scene, t);
+  if (!maps_.complete) {
+    // The render loop sees the same expired budget and takes no sample.
+    warnings_.push_back(std::string(budget.timeUp() ? "the time budget ran out" : "interrupted") +
+                        " while the photon maps were traced or built (" + formatNumber(budget.elapsed()) +
+                        " s): no sample was rendered; fewer --photons/--caustic-photons fit in the budget");
+    return;
+  }
   if (average(scene.totalPower()) <= 0) warnings_.push_back("the lights emit no power: no photons were traced");
   else if (maps_.global.size() == 0 && o_.photons > 0)
     warnings_.push_back("no photon was stored (no diffuse or glossy surface is lit): indirect light is black");

@@ -14,7 +14,7 @@ namespace pl {
 class PhotonIntegrator final : public Integrator {
  public:
   explicit PhotonIntegrator(const IntegratorOptions& options) : o_(options) {}
-  void preprocess(const Scene& scene, uint64_t seed, int threads) override;
+  void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) override;
   Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const override;
   const char* name() const override { return "photon"; }
   std::vector<std::string> warnings() const override { return warnings_; }

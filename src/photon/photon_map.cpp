@@ -2,18 +2,45 @@
 
 #include <nanoflann.hpp>
 
+#include "core/memory.h"
 #include "spectral/spectral.h"
 
 namespace pl {
 
 namespace {
 
+// nanoflann's view of the photons. Only the tree build reads points through kdtree_get_pt
+// (queries use PhotonDistance below), so the build can poll its budget here: every 2¹⁶ reads,
+// a few hundred microseconds of building, and it throws BudgetExpired to abandon the build.
 struct PhotonCloud {
   const std::vector<Photon>* photons;
+  const Budget* budget = nullptr;  // set while building
+  mutable uint32_t reads = 0;
   size_t kdtree_get_point_count() const { return photons->size(); }
-  float kdtree_get_pt(size_t i, size_t dim) const { return (*photons)[i].position[dim]; }
+  float kdtree_get_pt(size_t i, size_t dim) const {
+    if ((++reads & 0xffff) == 0 && budget && budget->expired()) throw BudgetExpired();
+    return (*photons)[i].position[dim];
+  }
   template <class BBox>
   bool kdtree_get_bbox(BBox&) const { return false; }
+};
+
+// Squared Euclidean distance for the searches, reading photon positions directly (nanoflann's
+// L2_Simple_Adaptor would go through kdtree_get_pt and its budget poll).
+struct PhotonDistance {
+  using ElementType = float;
+  using DistanceType = float;
+  const std::vector<Photon>& photons;
+  explicit PhotonDistance(const PhotonCloud& cloud) : photons(*cloud.photons) {}
+  float evalMetric(const float* a, uint32_t index, size_t) const {
+    const float* p = &photons[index].position[0];
+    float dx = a[0] - p[0], dy = a[1] - p[1], dz = a[2] - p[2];
+    return dx * dx + dy * dy + dz * dz;
+  }
+  template <typename U, typename V>
+  float accum_dist(const U a, const V b, const size_t) const {
+    return (a - b) * (a - b);
+  }
 };
 
 // Accepts a photon when its path type is accepted, it arrived on the query's side, and it lies
@@ -81,14 +108,15 @@ class FilteredRadius {
 }  // namespace
 
 struct PhotonMap::Tree {
-  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PhotonCloud>, PhotonCloud, 3,
-                                                    uint32_t>;
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<PhotonDistance, PhotonCloud, 3, uint32_t>;
   std::vector<Photon> photons;
   PhotonCloud cloud;
-  // Leaf size 24: NOTES measured 20–40 faster than 10 for k-NN gathers.
+  // Leaf size 24: NOTES measured 20–40 faster than 10 for k-NN gathers. Built by build() below,
+  // not by the constructor, so that an expired budget can abandon it.
   Index index;
   explicit Tree(std::vector<Photon> p)
-      : photons(std::move(p)), cloud{&photons}, index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(24)) {}
+      : photons(std::move(p)), cloud{&photons},
+        index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(24, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex)) {}
 };
 
 static const std::vector<Photon> kNoPhotons;
@@ -115,7 +143,10 @@ uint64_t spreadBits(uint64_t v) {
 // memory mostly sequentially instead of jumping across the whole map. LSD radix sort in four
 // 12-bit passes that move the photons with their keys (a sort of indices followed by a
 // random-access permutation was measured as slow as the tree build itself).
-std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks) {
+// Returns an empty array when the budget expires on the way (checked per chunk and per 2²⁰
+// photons of each radix pass).
+std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks, const Budget* budget) {
+  auto stop = [budget] { return budget && budget->expired(); };
   Bounds b;
   size_t n = 0;
   for (const auto& chunk : chunks) {
@@ -127,41 +158,64 @@ std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks) {
     uint64_t key;
     Photon photon;
   };
-  std::vector<Keyed> a(n), tmp(n);
+  LargeArray<Keyed> a(n), tmp(n);  // first touched below, in loops that poll the budget
   size_t i = 0;
   for (auto& chunk : chunks) {
+    if (stop()) return {};
     for (const Photon& p : chunk) {
       Vec3 q = glm::clamp((p.p() - b.lo) * scale, Vec3(0.0f), Vec3(65535.0f));
       a[i++] = {spreadBits(uint64_t(q.x)) | spreadBits(uint64_t(q.y)) << 1 | spreadBits(uint64_t(q.z)) << 2, p};
     }
     std::vector<Photon>().swap(chunk);  // release as we go
   }
+  const size_t block = size_t(1) << 20;
   for (int shift = 0; shift < 48; shift += 12) {
     std::vector<size_t> offset(4097, 0);
-    for (const Keyed& k : a) ++offset[((k.key >> shift) & 4095) + 1];
+    for (size_t begin = 0; begin < n; begin += block) {
+      if (stop()) return {};
+      for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j) ++offset[((a[j].key >> shift) & 4095) + 1];
+    }
     for (size_t d = 1; d < offset.size(); ++d) offset[d] += offset[d - 1];
-    for (const Keyed& k : a) tmp[offset[(k.key >> shift) & 4095]++] = k;
+    for (size_t begin = 0; begin < n; begin += block) {
+      if (stop()) return {};
+      for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j)
+        tmp[offset[(a[j].key >> shift) & 4095]++] = a[j];
+    }
     a.swap(tmp);
   }
-  std::vector<Keyed>().swap(tmp);
-  std::vector<Photon> photons(n);
-  for (size_t j = 0; j < n; ++j) photons[j] = a[j].photon;
+  { LargeArray<Keyed>(0).swap(tmp); }
+  std::vector<Photon> photons;
+  photons.reserve(n);
+  for (size_t begin = 0; begin < n; begin += block) {
+    if (stop()) return {};
+    for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j) photons.push_back(a[j].photon);
+  }
   return photons;
 }
 
 }  // namespace
 
-void PhotonMap::build(std::vector<Photon> photons) {
+bool PhotonMap::build(std::vector<Photon> photons, const Budget* budget) {
   std::vector<std::vector<Photon>> one;
   one.push_back(std::move(photons));
-  build(std::move(one));
+  return build(std::move(one), budget);
 }
 
-void PhotonMap::build(std::vector<std::vector<Photon>> chunks) {
+bool PhotonMap::build(std::vector<std::vector<Photon>> chunks, const Budget* budget) {
   tree_.reset();
-  std::vector<Photon> photons = sortByMortonCode(chunks);
-  if (photons.empty()) return;
-  tree_ = std::make_unique<Tree>(std::move(photons));  // the constructor builds the tree
+  std::vector<Photon> photons = sortByMortonCode(chunks, budget);
+  if (budget && budget->expired()) return false;
+  if (photons.empty()) return true;
+  auto tree = std::make_unique<Tree>(std::move(photons));
+  tree->cloud.budget = budget;
+  try {
+    tree->index.buildIndex();
+  } catch (const BudgetExpired&) {
+    return false;  // the partial tree goes with `tree`; this map stays empty
+  }
+  tree->cloud.budget = nullptr;
+  tree_ = std::move(tree);
+  return true;
 }
 
 size_t PhotonMap::size() const { return tree_ ? tree_->photons.size() : 0; }

@@ -1,5 +1,6 @@
 #include "photon/photon_tracer.h"
 
+#include <atomic>
 #include <chrono>
 
 #include "bsdfs/lambertian.h"
@@ -84,7 +85,12 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   // serialise with the other thread's page faults: two threads traced at 43% of the bare
   // Embree rate instead of 57% (README, Performance).
   for (auto& buffer : buffers) buffer.reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
+  std::atomic<bool> stopped{false};
   parallelFor(chunks, resolveThreads(o.threads), [&](size_t c, int) {
+    if (o.budget && o.budget->expired()) {  // a chunk is ~2 ms of tracing
+      stopped = true;
+      return;
+    }
     uint64_t end = std::min(count, (c + 1) * chunkSize);
     // Appended through a vector of this thread's own, published once: neighbouring chunks'
     // vector headers share a cache line.
@@ -93,9 +99,14 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
     buffers[c] = std::move(photons);
   });
   stats->traceSeconds += since(t0);
-  auto t1 = std::chrono::steady_clock::now();
   PhotonMap map;
-  map.build(std::move(buffers));  // chunks in order: the same map whatever the thread count
+  if (stopped) {
+    stats->complete = false;
+    return map;
+  }
+  auto t1 = std::chrono::steady_clock::now();
+  // Chunks in order: the same map whatever the thread count.
+  if (!map.build(std::move(buffers), o.budget)) stats->complete = false;
   map.setFluxIsXYZ(o.spectral);
   stats->buildSeconds += since(t1);
   return map;
@@ -125,7 +136,8 @@ PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& o) {
   uint64_t rays0 = Scene::raysTraced();
   PhotonMaps maps;
   if (o.globalPaths) maps.global = traceMap(scene, o, o.globalPaths, false, &maps);
-  if (o.causticPaths) maps.caustic = traceMap(scene, o, o.causticPaths, true, &maps);
+  if (o.causticPaths && maps.complete) maps.caustic = traceMap(scene, o, o.causticPaths, true, &maps);
+  if (!maps.complete) maps.global = PhotonMap();  // nothing half-traced is ever used
   maps.rays = Scene::raysTraced() - rays0;
   return maps;
 }

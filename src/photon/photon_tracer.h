@@ -17,6 +17,9 @@ struct PhotonTracingOptions {
   // Photons carry wavelengths (spectral/spectral.h) while they are traced, and are stored with
   // the linear-sRGB value of their flux: gathers stay in RGB.
   bool spectral = false;
+  // Polled between chunks of 4096 paths and inside the kd-tree build: when it expires the maps
+  // are left incomplete (PhotonMaps::complete = false) and empty.
+  const Budget* budget = nullptr;
 };
 
 struct PhotonMaps {
@@ -24,6 +27,7 @@ struct PhotonMaps {
   // L D, kCaustic for L S+ D, kIndirect otherwise. Caustic map: only L S+ D, from its own
   // emission.
   PhotonMap global, caustic;
+  bool complete = true;  // false: the budget expired (or an interrupt came) before the maps were built
   uint64_t rays = 0;  // rays traced, for benchmarks
   double traceSeconds = 0, buildSeconds = 0;
 };

@@ -6,18 +6,21 @@ namespace pl {
 
 ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
                                const CheckpointFn& checkpoint, PassInfo* info) {
-  const PassSetup setup = preparePasses(scene, io, o);
+  PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
   const size_t pixels = setup.pixels;
   const float r0 = setup.initialRadius;
+  const Budget& budget = setup.budget;
+  std::vector<uint32_t>& passes = setup.passes;
 
-  // Eye pass, once.
+  // Eye pass, once. If the budget expires in it, no photon pass follows.
   std::vector<VisiblePoint> hitPoints(pixels);
   std::vector<glm::dvec3> emitted(pixels, glm::dvec3(0.0));
   std::vector<ProgressiveStats> stats(pixels);
   parallelFor(size_t(H), threads, [&](size_t y, int) {
     for (int x = 0; x < W; ++x) {
+      if (budget.expired()) return;
       size_t i = y * W + x;
       Rng rng = Rng::keyed(ro.seed, i, 0);
       // Jitter y before x, stated (as function arguments the order would be unspecified; this is
@@ -33,23 +36,26 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
         size_t i = y * W + x;
         gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(o.photonsPerPass), o.alpha, &stats[i]);
+        ++passes[i];
       }
     });
+    return true;
   };
-  int passesDone = 0;
   auto image = [&] {
     ImageRGB img(W, H);
-    double emittedPaths = double(passesDone) * o.photonsPerPass;
-    for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(emittedPaths)));
+    for (size_t i = 0; i < pixels; ++i)
+      if (passes[i] > 0)
+        img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(double(passes[i]) * o.photonsPerPass)));
     return img;
   };
-  return runPasses(setup, o, checkpoint, info, [&](int p) { pass(p); passesDone = p; }, image,
-                   [&] { return meanRadius(stats); });
+  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
 }
 
 }  // namespace pl

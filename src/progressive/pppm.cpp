@@ -6,18 +6,20 @@ namespace pl {
 
 ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
                                 const CheckpointFn& checkpoint, PassInfo* info) {
-  const PassSetup setup = preparePasses(scene, io, o);
+  PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
   const size_t pixels = setup.pixels;
   const float r0 = setup.initialRadius;
+  const Budget& budget = setup.budget;
+  std::vector<uint32_t>& passes = setup.passes;
   double r2 = double(r0) * r0;  // radius of the pass about to run
   double lastRadius = r0;
   std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
-  int passesDone = 0;
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
@@ -25,6 +27,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: shadow rays
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         // Jitter y before x, stated (as function arguments the order would be unspecified; this is
@@ -43,15 +46,18 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
           spectralContext().active = false;
         }
         if (isFinite(L)) sum[i] += glm::dvec3(L);  // a non-finite sample is dropped, never accumulated
+        ++passes[i];
       }
     });
     lastRadius = de.radius;
     r2 = pppmNextRadius2(r2, p, o.alpha);
-    passesDone = p;
+    return true;
   };
+  // Each pass is an independent image; a pixel's estimate is the mean over its passes.
   auto image = [&] {
     ImageRGB img(W, H);
-    for (size_t i = 0; i < pixels; ++i) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passesDone)));
+    for (size_t i = 0; i < pixels; ++i)
+      if (passes[i] > 0) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passes[i])));
     return img;
   };
   return runPasses(setup, o, checkpoint, info, pass, image, [&] { return lastRadius; });

@@ -117,18 +117,18 @@ DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
   return r;
 }
 
-PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& o) {
-  PassSetup s;  // its clock starts here
-  s.image = image;
-  resolveResolution(scene.camera(), s.image);
-  s.width = s.image.width;
-  s.height = s.image.height;
-  s.threads = resolveThreads(s.image.threads);
-  s.pixels = size_t(s.width) * s.height;
-  checkMemory(mulSaturate(s.pixels, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float)),
-              std::to_string(s.width) + "x" + std::to_string(s.height) + " progressive image");
-  s.initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, s.width, s.height).radius;
-  return s;
+PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
+    : image(io), budget(o.timeLimit) {
+  resolveResolution(scene.camera(), image);
+  width = image.width;
+  height = image.height;
+  threads = resolveThreads(image.threads);
+  pixels = size_t(width) * height;
+  checkMemory(mulSaturate(pixels, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) +
+                                      3 * sizeof(float) + sizeof(uint32_t)),
+              std::to_string(width) + "x" + std::to_string(height) + " progressive image");
+  initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
+  passes.assign(pixels, 0);
 }
 
 void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L) {
@@ -144,7 +144,7 @@ void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L) {
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral) {
+                            bool spectral, const Budget* budget) {
   PhotonTracingOptions o;
   o.globalPaths = photons;
   o.causticPaths = 0;
@@ -152,6 +152,7 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
   o.threads = threads;
   o.maxDepth = maxDepth;
   o.spectral = spectral;
+  o.budget = budget;
   return tracePhotons(scene, o);
 }
 

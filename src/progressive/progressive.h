@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "core/budget.h"
 #include "core/interrupt.h"
 #include "integrators/integrator.h"
 #include "photon/photon_tracer.h"
@@ -25,11 +26,14 @@ struct ProgressiveOptions {
 };
 
 struct PassInfo {
-  int passes = 0;             // passes completed
-  uint64_t photons = 0;       // photon paths emitted so far
-  double seconds = 0.0;
+  int passes = 0;             // passes every pixel has completed
+  double meanPasses = 0.0;    // passes per pixel on average (a budget-cut pass reaches some pixels only)
+  uint64_t photons = 0;       // photon paths emitted so far, in passes whose photons were used
+  double seconds = 0.0;       // the time actually spent (checkpoints excluded)
   double meanRadius = 0.0;    // mean gather radius (per pixel for PPM/SPPM, global for PPPM)
   bool interrupted = false;   // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
+  bool timeUp = false;        // stopped because the time budget was spent
+  bool last = false;          // the render's final image
 };
 
 // Called with the current estimate after passes 1, 2, 4, 8, ... (and after the last pass); the
@@ -102,47 +106,71 @@ struct DefaultRadius {
 };
 DefaultRadius defaultRadius(const Scene& scene, int width, int height);
 
-// What every progressive integrator derives from its options before the first pass.
+// What every progressive integrator derives from its options before the first pass, and the
+// render's budget (started here: the set-up counts towards the render time).
 struct PassSetup {
+  PassSetup(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
   RenderOptions image;  // resolution resolved
   int width, height, threads;
   size_t pixels;
   float initialRadius;  // options.radius, or defaultRadius()
-  RenderClock clock;  // started before the set-up, which counts towards the render time
+  Budget budget;        // options.timeLimit; polled per pixel, per photon chunk, in the kd-tree build
+  // Passes each pixel has completed: equal, except that a pass the budget cut short during its
+  // gathers reached only some pixels, each pixel's estimate using its own count.
+  std::vector<uint32_t> passes;
 };
-PassSetup preparePasses(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
 
-// Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass).
+// Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass). When the
+// budget expires on the way, the maps come back incomplete (and empty): the pass is dropped.
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral = false);
+                            bool spectral, const Budget* budget);
 
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light
 // through the specular chain, so that gathers (in RGB) can use it; then the path ends.
 void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
 
 // The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
-// interrupt (all checked at pass boundaries, so at least one pass is made), and hands image() to
-// the checkpoint after passes 1, 2, 4, ... and the last.
+// interrupt. pass(p) returns whether its photons were traced (a pass the budget stops before
+// that is dropped whole); within it, the integrator polls the budget per pixel and counts the
+// pixels' completed passes in setup.passes. Hands image() to the checkpoint after passes 1, 2,
+// 4, ... and the last.
 template <typename PassFn, typename ImageFn, typename RadiusFn>
-ImageRGB runPasses(const PassSetup& setup, const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info,
+ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info,
                    PassFn&& pass, ImageFn&& image, RadiusFn&& meanRadius) {
-  RenderClock clock = setup.clock;
+  Budget& budget = setup.budget;
   PassInfo pi;
-  for (int p = 1; p <= o.passes; ++p) {
-    pass(p);
-    pi.passes = p;
-    pi.photons = uint64_t(p) * o.photonsPerPass;
-    pi.seconds = clock.elapsed();
+  uint64_t tracedPasses = 0;
+  auto fill = [&](bool last) {
+    uint32_t lo = UINT32_MAX;
+    uint64_t total = 0;
+    for (uint32_t n : setup.passes) lo = std::min(lo, n), total += n;
+    pi.passes = setup.pixels ? int(lo) : 0;
+    pi.meanPasses = setup.pixels ? double(total) / setup.pixels : 0.0;
+    pi.photons = tracedPasses * o.photonsPerPass;
+    pi.seconds = budget.elapsed();
     pi.meanRadius = meanRadius();
     pi.interrupted = interruptRequested();
-    bool last = p == o.passes || (o.timeLimit > 0 && pi.seconds >= o.timeLimit) || pi.interrupted;
+    pi.timeUp = budget.timeUp();
+    pi.last = last;
+  };
+  bool finalCheckpoint = false;
+  for (int p = 1; p <= o.passes && !budget.expired(); ++p) {
+    if (pass(p)) ++tracedPasses;
+    bool last = p == o.passes || budget.expired();
     if (checkpoint && (isCheckpoint(p) || last)) {
-      clock.excluding([&] { checkpoint(image(), pi); });
+      budget.excluding([&] {
+        fill(last);
+        checkpoint(image(), pi);
+      });
+      finalCheckpoint = last;
     }
     if (last) break;
   }
+  fill(true);
+  // The budget ran out before the first pass began (e.g. in PPM's eye pass): the (black) image
+  // is still the run's last one.
+  if (checkpoint && !finalCheckpoint) budget.excluding([&] { checkpoint(image(), pi); });
   if (info) *info = pi;
   return image();
 }
-
 }  // namespace pl

@@ -6,22 +6,25 @@ namespace pl {
 
 ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
                                 const CheckpointFn& checkpoint, PassInfo* info) {
-  const PassSetup setup = preparePasses(scene, io, o);
+  PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
   const size_t pixels = setup.pixels;
   const float r0 = setup.initialRadius;
+  const Budget& budget = setup.budget;
+  std::vector<uint32_t>& passes = setup.passes;
 
   std::vector<VisiblePoint> visible(pixels);
-  std::vector<glm::dvec3> directSum(pixels, glm::dvec3(0.0));  // Σ over passes of Le + L_direct
+  std::vector<glm::dvec3> passDirect(pixels);               // this pass's Le + L_direct, until its gather
+  std::vector<glm::dvec3> directSum(pixels, glm::dvec3(0.0));  // Σ over the pixel's passes of Le + L_direct
   std::vector<ProgressiveStats> stats(pixels);
   for (auto& s : stats) s.R2 = double(r0) * r0;
-  int passesDone = 0;
 
   auto pass = [&](int p) {
     // 1. Eye pass: a new visible point per pixel, and its direct light.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         // Jitter y before x, stated (as function arguments the order would be unspecified; this is
@@ -36,25 +39,33 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
           if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
         }
         finishSpectralVisiblePoint(&vp, &L);
-        directSum[i] += glm::dvec3(L);
+        passDirect[i] = glm::dvec3(L);
       }
     });
-    // 2. Photon pass, 3. gather at the visible points (direct light came from shadow rays).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral);
+    // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    if (!maps.complete) return false;
+    // 3. Gather at the visible points (direct light came from shadow rays); a pixel's pass is
+    // complete, and counted, once its gather is done.
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
         size_t i = y * W + x;
         gatherPhotons(visible[i], maps.global, accept, double(o.photonsPerPass), o.alpha, &stats[i]);
+        directSum[i] += passDirect[i];
+        ++passes[i];
       }
     });
-    passesDone = p;
+    return true;
   };
   auto image = [&] {
     ImageRGB img(W, H);
-    double emittedPaths = double(passesDone) * o.photonsPerPass;
-    for (size_t i = 0; i < pixels; ++i)
-      img.set(int(i % W), int(i / W), Spectrum(directSum[i] / double(passesDone) + stats[i].radiance(emittedPaths)));
+    for (size_t i = 0; i < pixels; ++i) {
+      if (passes[i] == 0) continue;
+      double n = double(passes[i]);
+      img.set(int(i % W), int(i / W), Spectrum(directSum[i] / n + stats[i].radiance(n * o.photonsPerPass)));
+    }
     return img;
   };
   return runPasses(setup, o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "core/budget.h"
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/parallel.h"
@@ -45,43 +46,56 @@ class Progress {
 }  // namespace
 
 ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, RenderStats* stats) {
+  Budget budget(o.timeLimit);  // started here: preprocessing counts towards the render time
   resolveResolution(scene.camera(), o);
   const int W = o.width, H = o.height;
+  const size_t pixels = size_t(W) * H;
   const int threads = resolveThreads(o.threads);
-  checkMemory(mulSaturate(uint64_t(W) * uint64_t(H), 3 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t)),
+  checkMemory(mulSaturate(pixels, 3 * sizeof(double) + 3 * sizeof(float) + 2 * sizeof(uint32_t)),
               std::to_string(W) + "x" + std::to_string(H) + " image");
   // Double-precision sums: float accumulation drifts over thousands of samples.
-  std::vector<double> sum(size_t(W) * H * 3, 0.0);
+  std::vector<double> sum(pixels * 3, 0.0);
+  // Samples per pixel. All equal, except after a pass the budget cut short: the pixels it
+  // reached have one more sample, and each pixel's estimate is its own mean.
+  std::vector<uint32_t> count(pixels, 0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
-  std::vector<uint32_t> nanCount(o.nanAov ? size_t(W) * H : 0, 0);  // per pixel, for --aov nan
-  RenderClock clock;
-  auto estimate = [&](int taken) {
+  std::vector<uint32_t> nanCount(o.nanAov ? pixels : 0, 0);  // per pixel, for --aov nan
+  auto estimate = [&] {
     ImageRGB image(W, H);
-    if (o.nanAov) {
-      for (size_t i = 0; i < nanCount.size(); ++i) image.set(int(i % W), int(i / W), Spectrum(float(nanCount[i]) / taken));
-      return image;
+    for (size_t i = 0; i < pixels; ++i) {
+      if (count[i] == 0) continue;  // the budget ended before this pixel's first sample: black
+      if (o.nanAov) {
+        image.set(int(i % W), int(i / W), Spectrum(float(nanCount[i]) / count[i]));
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = float(sum[i * 3 + c] / count[i]);
     }
-    for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / taken);
     return image;
   };
-  auto fillStats = [&](RenderStats* st, int taken, bool interrupted) {
-    st->spp = taken;
-    st->seconds = clock.elapsed();
+  auto fillStats = [&](RenderStats* st, bool last) {
+    uint32_t lo = UINT32_MAX;
+    uint64_t total = 0;
+    for (uint32_t n : count) lo = std::min(lo, n), total += n;
+    st->spp = pixels ? int(lo) : 0;
+    st->meanSpp = pixels ? double(total) / pixels : 0.0;
+    st->seconds = budget.elapsed();
     st->nonFiniteSamples = 0;
     for (auto n : nonFinite) st->nonFiniteSamples += n;
-    st->interrupted = interrupted;
+    st->interrupted = interruptRequested();
+    st->timeUp = budget.timeUp();
+    st->last = last;
   };
-  integrator.preprocess(scene, o.seed, threads);
+  integrator.preprocess(scene, o.seed, threads, budget);
   Progress progress(o.progress);
 
-  int taken = 0;
-  bool interrupted = false;
   int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
-  for (int s = 0; s < target; ++s) {
+  bool finalCheckpoint = false;
+  for (int s = 0; s < target && !budget.expired(); ++s) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
-    // so the sums are identical whatever the thread count.
+    // so the sums are identical whatever the thread count. The budget is polled per pixel.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
         uint64_t pixel = uint64_t(y) * W + x;
         Rng rng = Rng::keyed(o.seed, pixel, uint64_t(s));
         float jx = rng.uniform(), jy = rng.uniform();
@@ -94,6 +108,7 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
         } else {
           L = integrator.Li(ray, scene, rng);
         }
+        ++count[pixel];
         if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
           ++nonFinite[y];
           if (o.nanAov) ++nanCount[pixel];
@@ -103,23 +118,31 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
         p[0] += L.r, p[1] += L.g, p[2] += L.b;
       }
     });
-    taken = s + 1;
-    double t = clock.elapsed();
+    const int taken = s + 1;
+    double t = budget.elapsed();
     progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
-    interrupted = interruptRequested();
-    bool last = taken == target || (o.timeLimit > 0 && t >= o.timeLimit) || interrupted;
+    bool last = taken == target || budget.expired();
     if (o.checkpoint && (isCheckpoint(taken) || last)) {
-      clock.excluding([&] {
+      budget.excluding([&] {
         RenderStats st;
-        fillStats(&st, taken, interrupted);
-        o.checkpoint(estimate(taken), st);
+        fillStats(&st, last);
+        o.checkpoint(estimate(), st);
       });
+      finalCheckpoint = last;
     }
     if (last) break;
   }
-
-  if (stats) fillStats(stats, taken, interrupted);
-  return estimate(taken);
+  // The budget ran out before the first sample (in preprocessing): the (black) image is still
+  // the render's last one.
+  if (o.checkpoint && !finalCheckpoint) {
+    budget.excluding([&] {
+      RenderStats st;
+      fillStats(&st, true);
+      o.checkpoint(estimate(), st);
+    });
+  }
+  if (stats) fillStats(stats, true);
+  return estimate();
 }
 
 }  // namespace pl

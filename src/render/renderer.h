@@ -12,33 +12,15 @@ namespace pl {
 
 struct RenderStats;
 
-// A render's time: wall time since construction, minus the time spent in excluded work
-// (checkpoints write images; that is neither part of the measured time nor of the budget).
-class RenderClock {
- public:
-  double elapsed() const { return since(start_) - paused_; }
-  template <typename Fn>
-  void excluding(Fn&& fn) {
-    auto t0 = std::chrono::steady_clock::now();
-    fn();
-    paused_ += since(t0);
-  }
-
- private:
-  static double since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  }
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  double paused_ = 0.0;
-};
-
 // Checkpoints fall after samples (or passes) 1, 2, 4, 8, ... and after the last.
 inline bool isCheckpoint(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 struct RenderOptions {
   int width = 0, height = 0;  // 0: derived (see resolveResolution)
   int spp = 16;
-  double timeLimit = 0.0;  // seconds; 0 = none. Stops at the first pass boundary after it.
+  // Seconds; 0 = none. The render stops when it is spent, wherever it is (see core/budget.h):
+  // within a pixel's sample of it, or a chunk of photon paths, or a slice of the kd-tree build.
+  double timeLimit = 0.0;
   uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
   bool progress = false;
@@ -54,10 +36,13 @@ struct RenderOptions {
 };
 
 struct RenderStats {
-  int spp = 0;  // samples per pixel actually taken
-  double seconds = 0.0;
+  int spp = 0;           // samples every pixel has
+  double meanSpp = 0.0;  // samples per pixel on average: spp + the share of pixels a budget-cut pass reached
+  double seconds = 0.0;  // the time actually spent (preprocessing included, checkpoints excluded)
   uint64_t nonFiniteSamples = 0;  // discarded (counted as zero)
   bool interrupted = false;       // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
+  bool timeUp = false;            // stopped because the time budget was spent
+  bool last = false;              // the render's final image
 };
 
 // Width and height from the options and the camera: --width alone keeps the camera's aspect
@@ -66,7 +51,8 @@ void resolveResolution(const Camera& camera, RenderOptions& options);
 
 // Pixel value = average radiance over the pixel's area (box filter): sample s of pixel (x, y)
 // uses the random stream keyed by (seed, pixel index, s), never by thread.
-// Calls integrator.preprocess() first (its time is part of the render time).
+// Calls integrator.preprocess() first (its time is part of the render time). Checks the time
+// limit and interrupts per pixel; a pass they cut short leaves some pixels with one sample more.
 ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions options, RenderStats* stats);
 
 }  // namespace pl

@@ -1,0 +1,71 @@
+// A render's time budget and its stop signal. Equal-time comparisons are only fair if every
+// method stops when its time is up, wherever it is: in photon tracing, in the kd-tree build, in
+// the middle of a pass over the pixels. So the budget is not checked at pass boundaries only:
+// a watchdog thread raises a flag when the time is spent, and every loop that can run for long
+// polls it between small units of work (a pixel, a chunk of photon paths, a radix-sort pass,
+// 2¹⁶ reads of nanoflann's build). SIGINT and SIGTERM (core/interrupt.h) raise it too.
+// Polling is one relaxed atomic load, so it costs nothing measurable per pixel.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "core/interrupt.h"
+
+namespace pl {
+
+class Budget {
+ public:
+  // seconds ≤ 0: no time limit (an interrupt still stops the work).
+  explicit Budget(double seconds = 0.0);
+  ~Budget();
+  Budget(const Budget&) = delete;
+  Budget& operator=(const Budget&) = delete;
+
+  // Stop now: the time is spent, or SIGINT/SIGTERM arrived.
+  bool expired() const { return timeUp_.load(std::memory_order_relaxed) || interruptRequested(); }
+  bool timeUp() const { return timeUp_.load(std::memory_order_relaxed); }
+  double limit() const { return limit_; }
+  // Seconds since construction, minus the time spent in excluding().
+  double elapsed() const;
+  // Runs fn without counting its time (checkpoints write images: that is neither part of the
+  // measured time nor of the budget).
+  template <typename Fn>
+  void excluding(Fn&& fn) {
+    struct Resume {
+      Budget* b;
+      ~Resume() { b->resume(); }
+    } resume{this};
+    pause();
+    fn();
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void pause();
+  void resume();
+  double elapsedLocked(Clock::time_point now) const;
+  void watch();
+
+  const double limit_;
+  const Clock::time_point start_ = Clock::now();
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  double paused_ = 0.0;            // seconds excluded so far
+  bool pausedNow_ = false;
+  Clock::time_point pauseStart_;
+  bool done_ = false;
+  std::atomic<bool> timeUp_{false};
+  std::thread watchdog_;
+};
+
+// Thrown from deep inside work that has no partial result worth keeping (nanoflann's tree
+// build) when its budget expires; caught where the work was started.
+struct BudgetExpired : std::exception {
+  const char* what() const noexcept override { return "time budget spent or interrupted"; }
+};
+
+}  // namespace pl
