@@ -143,6 +143,29 @@ TEST_CASE("cli: progressive checkpoints after passes 1 - 2 - 4 and the last - wi
   expectCleanFailure("render " + scene + " --integrator pppm --alpha 0 -o " + dir + "/nope.exr", dir + "/nope.exr", "--alpha");
 }
 
+TEST_CASE("cli: info records the radius actually used - resolved defaults - as numbers") {
+  GltfFixture f;
+  std::string scene = f.write("cli-radius.gltf"), dir = GltfFixture::dir();
+  // Photon mapping with k-NN: the default cap, 5% of the scene's bounding radius (the bounds are
+  // the floor [−1, 1]² at y = 0: a radius of √2), and the mean k-NN radius, which lies below it.
+  Result r = run("render " + scene + " --integrator photon --photons 20000 --caustic-photons 0 --final-gather 0 --width 8 --spp 1 -q -o " +
+                 dir + "/radius.exr");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  auto meta = nlohmann::json::parse(run("info " + dir + "/radius.exr").out);
+  CHECK(meta["radius"] == 0);
+  const double expectedCap = 0.05 * std::sqrt(2.0);
+  CHECK(meta["max_radius"].get<double>() == Approx(expectedCap).epsilon(1e-4));
+  CHECK(meta["mean_radius"].get<double>() > 0);
+  CHECK(meta["mean_radius"].get<double>() <= meta["max_radius"].get<double>());
+  // A fixed radius is what it says.
+  r = run("render " + scene + " --integrator photon --radius 0.02 --photons 20000 --width 8 --spp 1 -q -o " + dir + "/radius.exr");
+  REQUIRE(r.code == 0);
+  meta = nlohmann::json::parse(run("info " + dir + "/radius.exr").out);
+  CHECK(meta["radius"] == Approx(0.02));
+  CHECK(meta["mean_radius"] == Approx(0.02));
+}
+
 TEST_CASE("cli: impossible photon counts and resolutions are one-line errors before any work") {
   GltfFixture f;
   std::string scene = f.write("cli-memory.gltf"), dir = GltfFixture::dir();

@@ -16,6 +16,7 @@
 
 #include "core/interrupt.h"
 #include "experiment/experiment.h"
+#include "integrators/photon.h"
 #include "io/image_io.h"
 #include "io/metrics.h"
 #include "progressive/progressive.h"
@@ -96,6 +97,12 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
                    s.integrator.c_str(), r.radius, DefaultRadius::kFootprints, r.distance);
   } else if (progressive && !quiet) {
     std::fprintf(stderr, "%s: initial radius %g m\n", s.integrator.c_str(), s.progressive.radius);
+  }
+  if (s.integrator == "photon") {
+    s.options.density = PhotonIntegrator::resolveDensity(*scene, s.options.density);  // recorded in the metadata
+    const DensityEstimation& d = s.options.density;
+    if (!quiet && d.radius > 0) std::fprintf(stderr, "photon: fixed radius %g m\n", d.radius);
+    else if (!quiet) std::fprintf(stderr, "photon: %d nearest photons within at most %g m\n", d.k, d.maxRadius);
   }
   if (!quiet && isatty(STDERR_FILENO)) {  // beside the progress bar; a log gets only the summary (or one error line)
     std::string work = progressive ? (s.progressive.passes == INT32_MAX ? "" : std::to_string(s.progressive.passes) + " passes")

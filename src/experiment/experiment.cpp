@@ -14,6 +14,7 @@
 
 #include "core/interrupt.h"
 #include "io/image_io.h"
+#include "integrators/photon.h"
 #include "io/metrics.h"
 #include "scene/gltf_loader.h"
 
@@ -52,12 +53,21 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
   }
   auto integrator = makeIntegrator(s.integrator, s.options);
   const uint64_t photons = s.integrator == "photon" ? s.options.photons + s.options.causticPhotons : 0;
+  // The photon map's mean gather radius at the visible points: known once the maps exist (at
+  // the first checkpoint or at the end), measured once.
+  double gatherRadius = -1;
+  auto meanRadius = [&] {
+    auto* pm = dynamic_cast<const PhotonIntegrator*>(integrator.get());
+    if (gatherRadius < 0) gatherRadius = pm ? pm->meanGatherRadius(scene, s.image.width, s.image.height) : 0.0;
+    return gatherRadius;
+  };
   auto toInfo = [&](const RenderStats& st) {
     CheckpointInfo c;
     c.seconds = st.seconds;
     c.spp = st.spp;
     c.meanWork = st.meanSpp;
     c.photons = photons;
+    c.meanRadius = meanRadius();
     c.interrupted = st.interrupted;
     c.timeUp = st.timeUp;
     c.last = st.last;
@@ -100,8 +110,11 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
     m["photons"] = std::to_string(s.options.photons);
     m["caustic_photons"] = std::to_string(s.options.causticPhotons);
     m["k"] = std::to_string(d.k);
+    // Fixed radius, or k-NN (radius 0) capped at max_radius; the mean radius actually used at
+    // the visible points (PhotonIntegrator::meanGatherRadius), once the render has it.
     m["radius"] = formatNumber(d.radius);
     m["max_radius"] = formatNumber(d.maxRadius);
+    if (info.meanRadius > 0) m["mean_radius"] = formatNumber(info.meanRadius);
     m["kernel"] = kernelName(d.kernel);
     m["final_gather"] = std::to_string(s.options.finalGather);
     if (!s.options.aov.empty()) m["aov"] = s.options.aov;
@@ -295,6 +308,7 @@ class Experiment {
       // resolved config and the images' metadata say what was used.
       if (isProgressive(s->integrator) && s->progressive.radius <= 0)
         s->progressive.radius = defaultRadius(*scene_, c_.width, c_.height).radius;
+      if (s->integrator == "photon") s->options.density = PhotonIntegrator::resolveDensity(*scene_, s->options.density);
     }
     // The fingerprint of what would be rendered; threads do not change results (deterministic).
     std::string key = c_.scene + "\n" + c_.reference.file + "\n" + settingsFingerprint(c_.reference.settings);

@@ -1,14 +1,14 @@
 #include "integrators/photon.h"
 
+#include "render/visible_probe.h"
+
 namespace pl {
 
 void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {
   // Bound every gather: without a maximum radius a query where no photon can arrive (e.g. the
   // gap between a light and the ceiling, seen from the gap) grows until it collects photons of
   // other surfaces, which is both wrong and slow. Default: 5% of the scene's bounding radius.
-  DensityEstimation& de = o_.density;
-  if (de.radius <= 0 && de.maxRadius <= 0) de.maxRadius = 0.05f * scene.bounds().radius();
-  de.planeTolerance = 0.25f * (de.radius > 0 ? de.radius : de.maxRadius);
+  o_.density = resolveDensity(scene, o_.density);
   PhotonTracingOptions t;
   t.globalPaths = o_.photons;
   t.causticPaths = o_.causticPhotons;
@@ -28,6 +28,26 @@ void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads
   if (average(scene.totalPower()) <= 0) warnings_.push_back("the lights emit no power: no photons were traced");
   else if (maps_.global.size() == 0 && o_.photons > 0)
     warnings_.push_back("no photon was stored (no diffuse or glossy surface is lit): indirect light is black");
+}
+
+DensityEstimation PhotonIntegrator::resolveDensity(const Scene& scene, DensityEstimation de) {
+  if (de.radius <= 0 && de.maxRadius <= 0) de.maxRadius = 0.05f * scene.bounds().radius();
+  de.planeTolerance = 0.25f * (de.radius > 0 ? de.radius : de.maxRadius);
+  return de;
+}
+
+double PhotonIntegrator::meanGatherRadius(const Scene& scene, int width, int height) const {
+  if (o_.density.radius > 0) return o_.density.radius;
+  if (maps_.global.size() == 0) return 0.0;
+  double sum = 0;
+  size_t n = 0;
+  for (const ProbePoint& p : probeVisiblePoints(scene, width, height)) {
+    GatherStats stats;
+    maps_.global.radiance(p.hit, p.wo, o_.density, Photon::kAcceptAll, &stats);
+    sum += stats.radius;
+    ++n;
+  }
+  return n ? sum / n : 0.0;
 }
 
 // Caustics (L S+ D) at x: from the caustic map, or, without one, from the global map's photons

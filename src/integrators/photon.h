@@ -20,6 +20,13 @@ class PhotonIntegrator final : public Integrator {
   std::vector<std::string> warnings() const override { return warnings_; }
   const PhotonMaps& maps() const { return maps_; }
   const DensityEstimation& density() const { return o_.density; }  // resolved by preprocess()
+  // The estimate's defaults made explicit: without --radius and --max-radius, k-NN capped at 5%
+  // of the scene's bounding radius; Jensen's disc a quarter of the radius thick.
+  static DensityEstimation resolveDensity(const Scene& scene, DensityEstimation de);
+  // The radius the global map's estimate actually used, summarised: its mean over the first
+  // diffuse or glossy points a 32×32 grid of camera rays sees (render/visible_probe.h); the
+  // fixed radius itself with --radius. 0 before preprocess() or without photons.
+  double meanGatherRadius(const Scene& scene, int width, int height) const;
 
  private:
   Spectrum causticRadiance(const SurfaceHit& hit, const Vec3& wo) const;

@@ -2,6 +2,7 @@
 
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "render/visible_probe.h"
 #include "spectral/spectral.h"
 
 #include "progressive/ppm.h"
@@ -74,33 +75,10 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
 }
 
 DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
-  // The distances at which the camera sees the surfaces photons are gathered on: a 32×32 grid
-  // of rays over the image, each followed through mirrors and glass (stream keyed by its grid
-  // index, so the result is deterministic) to its first diffuse or glossy point.
+  // The distances at which the camera sees the surfaces photons are gathered on.
   const Camera& c = scene.camera();
-  const int n = 32;
   std::vector<float> distances;
-  distances.reserve(n * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      Rng rng = Rng::keyed(0x726164697573ULL, uint64_t(j) * n + i, 0);  // "radius"
-      Ray ray = c.generateRay((i + 0.5f) * width / n, (j + 0.5f) * height / n, width, height);
-      float travelled = 0;
-      for (int depth = 0; depth < 16; ++depth) {
-        SurfaceHit hit;
-        if (!scene.intersect(ray, &hit)) break;
-        travelled += hit.t;
-        if (!hit.bsdf->isDelta()) {
-          distances.push_back(travelled);
-          break;
-        }
-        BSDFSample s;
-        Vec3 wo = hit.shading.toLocal(-ray.d);
-        if (!hit.bsdf->sample(wo, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
-          break;
-        ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
-      }
-    }
+  for (const ProbePoint& p : probeVisiblePoints(scene, width, height)) distances.push_back(p.distance);
   DefaultRadius r;
   r.visiblePoints = distances.size();
   if (distances.empty()) {

@@ -1,0 +1,23 @@
+// A deterministic look at what the camera sees: a grid of rays through the image, each followed
+// through mirrors and glass to its first diffuse or glossy point, the kind of point where
+// photons are gathered. Used to choose defaults from the view (the progressive methods' initial
+// radius) and to summarise what a render did there (the photon map's mean gather radius).
+#pragma once
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace pl {
+
+struct ProbePoint {
+  SurfaceHit hit;
+  Vec3 wo;           // towards the camera (along the last segment)
+  float distance;    // along the whole path from the camera
+};
+
+// n×n rays through the centres of an n×n grid of cells over a width×height image. Specular
+// bounces are sampled from a stream keyed by the ray's grid index, so the points are the same
+// on every call. Rays that leave the scene, or bounce more than 16 times, give no point.
+std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int height, int n = 32);
+
+}  // namespace pl
