@@ -89,29 +89,32 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   setInterruptCooperative(true);
   resolveResolution(scene->camera(), s.image);
   const bool progressive = isProgressive(s.integrator);
+  // The estimate's radius, resolved before rendering so that the metadata records it, and said
+  // in the summary line (before rendering too on a terminal: a log gets only the summary, or
+  // one error line).
+  std::string radius;
   if (progressive && s.progressive.radius <= 0) {
     DefaultRadius r = defaultRadius(*scene, s.image.width, s.image.height);
     s.progressive.radius = r.radius;
-    if (!quiet)
-      std::fprintf(stderr, "%s: initial radius %g m (default: %g pixel footprints at the median visible distance %g m)\n",
-                   s.integrator.c_str(), r.radius, DefaultRadius::kFootprints, r.distance);
-  } else if (progressive && !quiet) {
-    std::fprintf(stderr, "%s: initial radius %g m\n", s.integrator.c_str(), s.progressive.radius);
+    radius = "initial radius " + formatNumber(r.radius) + " m (default: " + formatNumber(DefaultRadius::kFootprints) +
+             " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)";
+  } else if (progressive) {
+    radius = "initial radius " + formatNumber(s.progressive.radius) + " m";
   }
   if (s.integrator == "photon") {
-    s.options.density = PhotonIntegrator::resolveDensity(*scene, s.options.density);  // recorded in the metadata
+    s.options.density = PhotonIntegrator::resolveDensity(*scene, s.options.density);
     const DensityEstimation& d = s.options.density;
-    if (!quiet && d.radius > 0) std::fprintf(stderr, "photon: fixed radius %g m\n", d.radius);
-    else if (!quiet) std::fprintf(stderr, "photon: %d nearest photons within at most %g m\n", d.k, d.maxRadius);
+    radius = d.radius > 0 ? "fixed radius " + formatNumber(d.radius) + " m"
+                          : std::to_string(d.k) + " nearest photons within at most " + formatNumber(d.maxRadius) + " m";
   }
-  if (!quiet && isatty(STDERR_FILENO)) {  // beside the progress bar; a log gets only the summary (or one error line)
+  if (!quiet && isatty(STDERR_FILENO)) {  // beside the progress bar
     std::string work = progressive ? (s.progressive.passes == INT32_MAX ? "" : std::to_string(s.progressive.passes) + " passes")
                                    : (s.image.spp > 0 ? std::to_string(s.image.spp) + " spp" : "");
     if (s.image.timeLimit > 0)
       work = work.empty() ? "for " + formatNumber(s.image.timeLimit) + " s"
                           : work + " or " + formatNumber(s.image.timeLimit) + " s, whichever ends first";
-    std::fprintf(stderr, "%s: rendering %dx%d, %s\n", s.integrator.c_str(), s.image.width, s.image.height,
-                 work.empty() ? "until interrupted" : work.c_str());
+    std::fprintf(stderr, "%s: rendering %dx%d, %s%s\n", s.integrator.c_str(), s.image.width, s.image.height,
+                 work.empty() ? "until interrupted" : work.c_str(), radius.empty() ? "" : ("; " + radius).c_str());
   }
   RunCheckpointFn checkpoint;
   if (checkpoints) {
@@ -146,12 +149,14 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   }
   std::string budget = s.image.timeLimit > 0 ? " of a " + formatNumber(s.image.timeLimit) + " s budget" : "";
   if (progressive)
-    std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, mean radius %g m -> %s\n", s.integrator.c_str(),
-                 s.image.width, s.image.height, work.c_str(), (unsigned long long)info.photons, info.seconds,
-                 budget.c_str(), info.meanRadius, outputs.front().c_str());
+    std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, %s, mean radius at the end %g m -> %s\n",
+                 s.integrator.c_str(), s.image.width, s.image.height, work.c_str(), (unsigned long long)info.photons,
+                 info.seconds, budget.c_str(), radius.c_str(), info.meanRadius, outputs.front().c_str());
   else
-    std::fprintf(stderr, "%s: %dx%d, %s, %.2f s%s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height,
-                 work.c_str(), info.seconds, budget.c_str(), outputs.front().c_str());
+    std::fprintf(stderr, "%s: %dx%d, %s, %.2f s%s%s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height,
+                 work.c_str(), info.seconds, budget.c_str(),
+                 radius.empty() ? "" : (", " + radius + (info.meanRadius > 0 ? " (mean " + formatNumber(info.meanRadius) + " m)" : "")).c_str(),
+                 outputs.front().c_str());
   return 0;
 }
 
