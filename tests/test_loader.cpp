@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <functional>
+
 #include "bsdfs/dielectric.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_loader.h"
@@ -195,6 +197,57 @@ TEST_CASE("loader errors: no camera - no light - bad light and material values")
   GltfFixture c;
   c.doc["nodes"][0]["children"] = {0};  // a cycle
   loadError(c.write("cycle.gltf"));
+}
+
+TEST_CASE("loader errors: a value of the wrong JSON type names the element - .gltf and .glb") {
+  // tinygltf treats such a property as absent (a translation of [0, "x", 0] became none, with
+  // no message); photonlab checks the types first (scene/gltf_schema.h).
+  struct Case {
+    std::function<void(nlohmann::json&)> edit;
+    std::string message;
+  } cases[] = {
+      {[](auto& d) { d["nodes"][1]["translation"] = {0, "x", 0}; }, "nodes[1].translation[1]: must be a number, got a string (\"x\")"},
+      {[](auto& d) { d["nodes"][1]["translation"] = {0, 1}; }, "nodes[1].translation: must be an array of 3 numbers, got an array of 2"},
+      {[](auto& d) { d["nodes"][1]["rotation"] = "identity"; }, "nodes[1].rotation: must be an array of 4 numbers, got a string"},
+      {[](auto& d) { d["nodes"][0]["mesh"] = "0"; }, "nodes[0].mesh: must be an index"},
+      {[](auto& d) { d["nodes"][0]["mesh"] = 0.5; }, "nodes[0].mesh: must be an index (an integer, 0 or more), got a number (0.5)"},
+      {[](auto& d) { d["nodes"][0]["children"] = {-1}; }, "nodes[0].children[0]: must be an index"},
+      {[](auto& d) { d["scenes"][0]["nodes"] = 0; }, "scenes[0].nodes: must be an array of indices"},
+      {[](auto& d) { d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = "0"; }, "meshes[0].primitives[0].attributes.POSITION: must be an index"},
+      {[](auto& d) { d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][2] = nullptr; },
+       "materials[0].pbrMetallicRoughness.baseColorFactor[2]: must be a number, got null"},
+      {[](auto& d) { d["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = "0"; },
+       "materials[0].pbrMetallicRoughness.metallicFactor: must be a number, got a string"},
+      {[](auto& d) { d["materials"][0]["doubleSided"] = 1; }, "materials[0].doubleSided: must be true or false, got a number (1)"},
+      {[](auto& d) { d["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = "1.5"; },
+       "materials[0].extensions.KHR_materials_ior.ior: must be a number"},
+      {[](auto& d) { d["cameras"][0]["perspective"]["yfov"] = "0.8"; }, "cameras[0].perspective.yfov: must be a number"},
+      {[](auto& d) { d["accessors"][0]["count"] = "4"; }, "accessors[0].count: must be an index"},
+      {[](auto& d) { d["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = "2"; },
+       "extensions.KHR_lights_punctual.lights[0].intensity: must be a number"},
+      {[](auto& d) { d["extensions"]["KHR_lights_punctual"]["lights"][0]["color"] = {1, 1}; },
+       "extensions.KHR_lights_punctual.lights[0].color: must be an array of 3 numbers"},
+      {[](auto& d) { d["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"power", "5 W"}}}}; },
+       "extensions.KHR_lights_punctual.lights[0].extras.photonlab.power: must be a number"},
+      {[](auto& d) { d["nodes"] = {{"mesh", 0}}; }, "nodes: must be an array of objects, got an object"},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    GltfFixture f;
+    c.edit(f.doc);
+    std::string name = "type-" + std::to_string(i++);
+    for (const std::string& path : {f.write(name + ".gltf"), f.writeGlb(name + ".glb")}) {
+      std::string e = loadError(path);
+      INFO(path << " => " << e);
+      CHECK_THAT(e, Contains(path + ": " + c.message));
+    }
+  }
+  // The schema's types, unknown properties and 1.0 as an integer still load.
+  GltfFixture ok;
+  ok.doc["nodes"][0]["mesh"] = 0.0;
+  ok.doc["nodes"][0]["someTool"] = {{"anything", "goes"}};
+  ok.doc["materials"][0]["extensions"]["VENDOR_unknown"] = {{"x", "y"}};
+  CHECK_NOTHROW(loadGltf(ok.write("types-ok.gltf")));
 }
 
 TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - looked up by TEXCOORD_0") {

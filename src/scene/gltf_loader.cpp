@@ -19,6 +19,7 @@
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
+#include "scene/gltf_schema.h"
 #include "spectral/spectral.h"
 
 namespace pl {
@@ -130,6 +131,10 @@ class Loader {
   }
 
   void parse() {
+    // tinygltf ignores a property of the wrong type, or reports it without saying where;
+    // photonlab refuses it first, naming the element (gltf_schema.h).
+    std::string typeError = checkGltfTypes(jsonText());
+    if (!typeError.empty()) throw Error(path_ + ": " + typeError);
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(loadImageChecked, nullptr);
     std::string err, warn;
@@ -151,6 +156,25 @@ class Loader {
     }
     if (!ok || !err.empty()) fail(binary ? "glb" : "json", oneLine(err.empty() ? "cannot parse" : err));
     if (!warn.empty()) this->warn(oneLine(warn));
+  }
+
+  // The document's JSON: the file (or the fuzzer's bytes), or a .glb's first chunk when its
+  // header holds together; "" for anything else (tinygltf then reports what is wrong).
+  std::string jsonText() const {
+    std::string bytes;
+    if (bytes_) {
+      bytes.assign(reinterpret_cast<const char*>(bytes_), size_);
+    } else {
+      std::ifstream f(path_, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    }
+    if (bytes.size() < 4 || std::memcmp(bytes.data(), "glTF", 4) != 0) return bytes;
+    uint32_t length, type;  // chunk 0: length, type "JSON", data
+    if (bytes.size() < 20) return "";
+    std::memcpy(&length, bytes.data() + 12, 4);
+    std::memcpy(&type, bytes.data() + 16, 4);
+    if (type != 0x4E4F534A || length > bytes.size() - 20) return "";
+    return bytes.substr(20, length);
   }
 
   // ---------- accessors ----------
