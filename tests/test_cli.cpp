@@ -95,6 +95,19 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));
+  // An sRGB PNG against a linear EXR is refused (their numbers would mean nothing); two PNGs are
+  // compared after decoding sRGB, and the output says so.
+  REQUIRE(run("render " + scene + " --width 8 --spp 1 -q -o " + dir + "/cmp.exr -o " + dir + "/cmp.png").code == 0);
+  Result mixed = run("compare " + dir + "/cmp.png " + dir + "/cmp.exr");
+  CHECK(mixed.code == 1);
+  CHECK(std::count(mixed.err.begin(), mixed.err.end(), '\n') == 1);
+  CHECK_THAT(mixed.err, Contains("cmp.png: an 8-bit display image (sRGB, clamped to [0, 1]) cannot be compared with the linear"));
+  Result pngs = run("compare " + dir + "/cmp.png " + dir + "/cmp.png");
+  CHECK(pngs.code == 0);
+  CHECK(nlohmann::json::parse(pngs.out)["decoded_srgb"] == true);
+  CHECK_THAT(pngs.err, Contains("decoding sRGB to linear"));
+  expectCleanFailure("render " + scene + " -o " + out + " --tonemap filmic", out, "--tonemap: unknown tone curve 'filmic' (clamp, aces)");
+  expectCleanFailure("render " + scene + " -o " + out + " --exposure nan", out, "--exposure");
 }
 
 TEST_CASE("cli: photonlab alone prints its usage") {

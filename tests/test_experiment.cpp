@@ -92,6 +92,25 @@ integrator = "path"
   CHECK(c.reference.settings.image.width == 32);
 }
 
+TEST_CASE("experiment config: display and report keys - exposure - tonemap - baseline - target_relmse") {
+  ConfigFixture f;
+  auto c = f.parse("exposure = -1.5\ntonemap = \"aces\"\nbaseline = \"B\"\ntarget_relmse = 0.01\n" + kHead +
+                   "[[run]]\nlabel = \"A\"\nintegrator = \"path\"\n[[run]]\nlabel = \"B\"\nintegrator = \"sppm\"\n");
+  CHECK(c.display.exposure == -1.5);
+  CHECK(c.display.curve == ToneCurve::ACES);
+  CHECK(c.baseline == "B");
+  CHECK(c.targetRelmse == 0.01);
+  auto again = f.parse(resolvedConfigToml(c, {}));  // written out and read back
+  CHECK(again.display.exposure == -1.5);
+  CHECK(again.display.curve == ToneCurve::ACES);
+  CHECK(again.baseline == "B");
+  CHECK(again.targetRelmse == 0.01);
+  // Defaults: no exposure change, clamping, the first run as the baseline (written out).
+  auto d = f.parse(kHead + "[[run]]\nlabel = \"A\"\nintegrator = \"path\"\n");
+  CHECK(d.display.isDefault());
+  CHECK(resolvedConfigToml(d, {}).find("baseline = 'A'") != std::string::npos);
+}
+
 TEST_CASE("experiment config: the reference draws from seed -1 - no run can - an explicit one a run uses is refused") {
   ConfigFixture f;
   // Default: its own stream, −1, whatever the runs' seeds (before: the experiment's first seed).
@@ -140,6 +159,10 @@ TEST_CASE("experiment config: mistakes name the file - line and key") {
            "[[run]]\nintegrator = \"path\"\n",
        "inset: region lies outside the image"},
       {"name = \"t\"\n[unclosed\n", p + ":2: "},
+      {"tonemap = \"filmic\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: tonemap: unknown tone curve 'filmic' (clamp, aces)"},
+      {"exposure = \"+1\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: exposure: must be a number"},
+      {"baseline = \"PT\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: baseline: no run is labelled 'PT'"},
+      {"target_relmse = 0\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: target_relmse: must be in (0"},
   };
   for (auto& c : cases) {
     std::string e = f.error(c.text);

@@ -38,3 +38,40 @@ TEST_CASE("EXR round trip keeps float values and metadata  PNG is sRGB-encoded")
   CHECK_FALSE(fs::exists(dir / "missing"));
   fs::remove_all(dir);
 }
+
+TEST_CASE("PNG exposure and tone curves - EXR untouched - the PNG records how it was made") {
+  fs::path dir = fs::temp_directory_path() / ("photonlab-io-tm-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  ImageRGB img(4, 1);
+  img.data = {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f, 0.0f, 0.1f, 100.0f, 0.5f, 0.5f, 0.5f};
+  // +1 EV is the image times 2.
+  ImageRGB doubled = img;
+  for (float& v : doubled.data) v *= 2;
+  writeImage((dir / "e.png").string(), img, {}, Display{1.0, ToneCurve::Clamp});
+  writeImage((dir / "d.png").string(), doubled);
+  CHECK(readImage((dir / "e.png").string()).data == readImage((dir / "d.png").string()).data);
+  // ACES (Narkowicz's fit): f(x) = x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14), then sRGB.
+  writeImage((dir / "a.png").string(), img, {}, Display{0.0, ToneCurve::ACES});
+  ImageRGB aces = readImage((dir / "a.png").string());
+  auto f = [](double x) { return x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14); };
+  auto srgb = [](double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055; };
+  for (size_t i = 0; i < img.data.size(); ++i) {
+    double expected = std::round(255 * srgb(std::min(1.0, f(img.data[i])))) / 255;
+    CHECK(aces.data[i] == Approx(expected).margin(1e-6));
+  }
+  // Highlights roll off instead of clipping: 1, 2, 4 stay apart; only far above 7 is white.
+  CHECK(aces.data[2] < aces.data[3]);
+  CHECK(aces.data[3] < aces.data[4]);
+  CHECK(aces.data[4] < 1.0f);
+  CHECK(aces.data[8] == 1.0f);
+  CHECK(displayValue(1.0f, Display{0.0, ToneCurve::ACES}) == Approx(srgbTransfer(0.8038f)).epsilon(1e-3));
+  auto meta = readImageMetadata((dir / "a.png").string());
+  CHECK(meta["tonemap"] == "aces");
+  CHECK(meta["exposure"] == "0");
+  // EXR ignores the display settings.
+  writeImage((dir / "a.exr").string(), img, {}, Display{3.0, ToneCurve::ACES});
+  CHECK(readImage((dir / "a.exr").string()).data == img.data);
+  CHECK(isDisplayReferred((dir / "a.png").string()));
+  CHECK_FALSE(isDisplayReferred((dir / "a.exr").string()));
+  fs::remove_all(dir);
+}

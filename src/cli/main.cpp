@@ -65,12 +65,12 @@ void checkOutputPath(const std::string& path) {
 // Interrupted (SIGINT/SIGTERM): the estimate reached so far goes to OUT.partial.exr (never over
 // OUT itself, which a script may take for a finished result), marked partial="1"; exit 130.
 int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image, std::map<std::string, std::string> meta,
-                 double seconds) {
+                 double seconds, const Display& display) {
   meta["partial"] = "1";
   for (auto& o : outputs) {
     fs::path p(o);
     std::string partial = (p.parent_path() / (p.stem().string() + ".partial" + p.extension().string())).string();
-    writeImage(partial, image, meta);
+    writeImage(partial, image, meta, display);
     std::fprintf(stderr, "photonlab: interrupted after %.2f s: partial image written to %s\n", seconds, partial.c_str());
   }
   return 130;
@@ -80,7 +80,7 @@ int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image,
 // runMetadata() names what was rendered, as `photonlab run` does. With `checkpoints`
 // (progressive only), OUT.pass-NNNN.ext after passes 1, 2, 4, ... and the last.
 int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, RunSettings s, bool checkpoints,
-              bool quiet) {
+              bool quiet, const Display& display) {
   for (auto& o : outputs) checkOutputPath(o);
   if (!isProgressive(s.integrator)) makeIntegrator(s.integrator, s.options);  // validates the name first
   auto scene = loadScene(scenePath);
@@ -124,7 +124,7 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
         char suffix[32];
         std::snprintf(suffix, sizeof suffix, ".pass-%04d", info.passes);
         writeImage((p.parent_path() / (p.stem().string() + suffix + p.extension().string())).string(), image,
-                   runMetadata(s, info, scenePath));
+                   runMetadata(s, info, scenePath), display);
       }
     };
   }
@@ -134,8 +134,8 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite);
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   auto meta = runMetadata(s, info, scenePath);
-  if (info.interrupted) return writePartial(outputs, image, meta, info.seconds);
-  for (auto& o : outputs) writeImage(o, image, meta);
+  if (info.interrupted) return writePartial(outputs, image, meta, info.seconds, display);
+  for (auto& o : outputs) writeImage(o, image, meta, display);
   if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
   if (quiet) return 0;
   // The work done: "12 passes", or "12.4 passes (the budget ended pass 13 after 40% of the pixels)".
@@ -213,9 +213,27 @@ int cmdInfo(const std::string& scenePath) {
 }
 
 int cmdCompare(const std::string& imagePath, const std::string& referencePath) {
-  ErrorMetrics m = compareImages(readImage(imagePath), readImage(referencePath));
-  std::printf("{\"rmse\": %s, \"relmse\": %s, \"mae\": %s, \"mean_ratio\": %s}\n", formatNumber(m.rmse).c_str(),
-              formatNumber(m.relmse).c_str(), formatNumber(m.mae).c_str(), formatNumber(m.meanRatio).c_str());
+  // Errors are about radiance: a PNG holds display values (exposed, tone-mapped, clamped to
+  // [0, 1], sRGB-encoded). Against a linear EXR that is no comparison at all; two PNGs are
+  // compared after undoing the sRGB curve, and the output says so.
+  const bool imageDisplay = isDisplayReferred(imagePath), referenceDisplay = isDisplayReferred(referencePath);
+  if (imageDisplay != referenceDisplay) {
+    const std::string& png = imageDisplay ? imagePath : referencePath;
+    const std::string& exr = imageDisplay ? referencePath : imagePath;
+    throw Error(png + ": an 8-bit display image (sRGB, clamped to [0, 1]) cannot be compared with the linear " + exr +
+                ": compare the EXR rendered with it (photonlab render ... -o x.exr -o x.png)");
+  }
+  ImageRGB image = readImage(imagePath), reference = readImage(referencePath);
+  if (imageDisplay) {
+    for (ImageRGB* img : {&image, &reference})
+      for (float& v : img->data) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+    std::fprintf(stderr, "compare: both images are display-referred (PNG): compared after decoding sRGB to linear; "
+                         "values above 1 were clipped when they were written\n");
+  }
+  ErrorMetrics m = compareImages(image, reference);
+  std::printf("{\"rmse\": %s, \"relmse\": %s, \"mae\": %s, \"mean_ratio\": %s%s}\n", formatNumber(m.rmse).c_str(),
+              formatNumber(m.relmse).c_str(), formatNumber(m.mae).c_str(), formatNumber(m.meanRatio).c_str(),
+              imageDisplay ? ", \"decoded_srgb\": true" : "");
   return 0;
 }
 
@@ -271,6 +289,12 @@ int main(int argc, char** argv) {
   render->add_option("--aov", integratorOptions.aov,
                      "Debug image instead of radiance: nan (fraction of discarded non-finite samples); "
                      "photons | radius (--integrator photon)");
+  Display display;
+  std::string toneCurve = "clamp";
+  render->add_option("--exposure", display.exposure, "PNG only: exposure in EV (linear values times 2^EV); EXR stays linear")
+      ->capture_default_str();
+  render->add_option("--tonemap", toneCurve, "PNG only: clamp | aces (a filmic curve that rolls highlights off)")
+      ->capture_default_str();
   ProgressiveOptions progressive;
   bool checkpoints = false;
   render->add_option("--passes", progressive.passes, "ppm/sppm/pppm: number of passes")->capture_default_str();
@@ -376,7 +400,14 @@ int main(int argc, char** argv) {
       settings.progressive.timeLimit = options.timeLimit;
       settings.progressive.maxDepth = integratorOptions.maxDepth;
       if (options.timeLimit > 0 && render->get_option("--passes")->count() == 0) settings.progressive.passes = INT32_MAX;
-      return cmdRender(scenePath, outputs, settings, checkpoints, quiet);
+      if (!std::isfinite(display.exposure) || std::abs(display.exposure) > 64)
+        throw Error("--exposure: must be a number of EV from -64 to 64, got " + formatNumber(display.exposure));
+      try {
+        display.curve = parseToneCurve(toneCurve);
+      } catch (const Error& e) {
+        throw Error(std::string("--tonemap: ") + e.what());
+      }
+      return cmdRender(scenePath, outputs, settings, checkpoints, quiet, display);
     }
     if (*info) return cmdInfo(infoScene);
     if (*compare) return cmdCompare(imagePath, referencePath);

@@ -235,6 +235,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
   c.path = path;
   std::vector<uint64_t> seeds{1};
   const toml::node* referenceNode = nullptr;
+  const toml::node* baselineNode = nullptr;
   const toml::node* runNode = nullptr;
   bool hasSeed = false;
   for (auto&& [k, node] : root) {
@@ -265,6 +266,20 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       std::array<int, 4> v{};
       for (size_t i = 0; i < 4; ++i) v[i] = int(p.integer((*a)[i], key, i < 2 ? 0 : 1, 16384));
       c.inset = v;
+    } else if (key == "exposure") {
+      c.display.exposure = p.number(node, key, -64, 64, true);
+    } else if (key == "tonemap") {
+      std::string curve = p.string(node, key);
+      try {
+        c.display.curve = parseToneCurve(curve);
+      } catch (const Error& e) {
+        p.fail(&node, key, e.what());
+      }
+    } else if (key == "baseline") {
+      c.baseline = p.string(node, key);
+      baselineNode = &node;
+    } else if (key == "target_relmse") {
+      c.targetRelmse = p.number(node, key, 0.0, 1e9, false);
     } else if (key == "reference") {
       referenceNode = &node;
     } else if (key == "run") {
@@ -274,7 +289,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       if (!node.is_table()) p.fail(&node, key, "must be a table");
     } else {
       p.fail(&node, key, "unknown key (known: name, description, scene, width, height, seed, seeds, threads, inset, "
-                         "[reference], [[run]], [provenance])");
+                         "exposure, tonemap, baseline, target_relmse, [reference], [[run]], [provenance])");
     }
   }
   if (c.name.empty()) p.fail(1, "name", "missing (the results folder name)");
@@ -324,6 +339,11 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     if (r.label.size() > 200) p.fail(r.line, prefix + ".label", "longer than 200 characters");
     if (!labels.insert(r.label).second) p.fail(r.line, prefix + ".label", "'" + r.label + "' is used by another run");
     c.runs.push_back(std::move(r));
+  }
+  if (!c.baseline.empty()) {
+    bool found = false;
+    for (auto& r : c.runs) found = found || r.label == c.baseline;
+    if (!found) p.fail(baselineNode, "baseline", "no run is labelled '" + c.baseline + "'");
   }
   // An explicit reference seed must not be a run's: the run would be scored against an image
   // made from its own random numbers.
@@ -390,6 +410,10 @@ std::string resolvedConfigToml(const ExperimentConfig& c, const std::vector<std:
   if (c.height > 0) root.insert("height", c.height);
   root.insert("threads", c.threads);
   if (c.inset) root.insert("inset", toml::array{(*c.inset)[0], (*c.inset)[1], (*c.inset)[2], (*c.inset)[3]});
+  root.insert("exposure", c.display.exposure);
+  root.insert("tonemap", toneCurveName(c.display.curve));
+  root.insert("baseline", c.baseline.empty() ? c.runs.front().label : c.baseline);
+  if (c.targetRelmse > 0) root.insert("target_relmse", c.targetRelmse);
   toml::table ref;
   if (!c.reference.file.empty()) {
     ref.insert("file", c.reference.file);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
+#include "io/tonemap.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
 
@@ -51,6 +52,9 @@ struct ExperimentConfig {
   int width = 0, height = 0;  // 0 height: from the camera's aspect ratio once the scene is loaded
   int threads = 0;
   std::optional<std::array<int, 4>> inset;  // x, y, w, h in pixels: the zoomed region of the comparison figure
+  Display display;           // exposure (EV) and tone curve of the PNGs and figures; EXR stays linear
+  std::string baseline;      // the run the report's speed-ups are relative to (a label; default: the first run)
+  double targetRelmse = 0;   // the report's "time to reach" target; 0: the largest final relMSE of the runs
   ReferenceConfig reference;
   std::vector<RunConfig> runs;
 };

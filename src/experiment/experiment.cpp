@@ -420,7 +420,7 @@ class Experiment {
                     std::to_string(reference_.height) + ", the experiment renders " + std::to_string(c_.width) + "x" +
                     std::to_string(c_.height));
       writeImage((out_ / "reference.exr").string(), reference_, {{"reference_file", c_.reference.file}});
-      writeImage((out_ / "reference.png").string(), reference_);
+      writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
       return;
     }
     const RunSettings& s = c_.reference.settings;
@@ -452,7 +452,7 @@ class Experiment {
     std::error_code ec;
     fs::remove(out_ / "reference.exr", ec);
     fs::copy_file(cached, out_ / "reference.exr", fs::copy_options::overwrite_existing);
-    writeImage((out_ / "reference.png").string(), reference_);
+    writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
   }
 
   int renderRuns() {
@@ -515,7 +515,7 @@ class Experiment {
       else std::snprintf(name, sizeof name, "spp-%04d.exr", info.spp);
       const fs::path image_rel = folder / name;
       writeImage((out_ / image_rel).string(), image, meta);
-      if (info.last) writeImage((out_ / fs::path(image_rel).replace_extension(".png")).string(), image, meta);
+      if (info.last) writeImage((out_ / fs::path(image_rel).replace_extension(".png")).string(), image, meta, c_.display);
       ErrorMetrics m = compareImages(image, reference_);
       std::vector<std::string> f = {std::to_string(run),
                                     rc.label,

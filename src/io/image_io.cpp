@@ -16,12 +16,8 @@ static std::string extensionOf(const std::string& path) {
   return ext;
 }
 
-static float srgbEncode(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
-void writeImage(const std::string& path, const ImageRGB& image, const std::map<std::string, std::string>& metadata) {
+void writeImage(const std::string& path, const ImageRGB& image, const std::map<std::string, std::string>& metadata,
+                const Display& display) {
   std::string ext = extensionOf(path);
   if (ext != ".exr" && ext != ".png") throw Error(path + ": output must end in .exr or .png");
   fs::path target(path);
@@ -30,6 +26,10 @@ void writeImage(const std::string& path, const ImageRGB& image, const std::map<s
   if (!out) throw Error(path + ": cannot create an image writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, 3, ext == ".exr" ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   for (auto& [key, value] : metadata) spec.attribute("photonlab:" + key, value);
+  if (ext == ".png") {  // how the display values were made
+    spec.attribute("photonlab:exposure", formatNumber(display.exposure));
+    spec.attribute("photonlab:tonemap", toneCurveName(display.curve));
+  }
   if (ext == ".exr") spec.attribute("compression", "zip");
   bool ok = out->open(tmp.string(), spec);
   if (ok) {
@@ -38,7 +38,7 @@ void writeImage(const std::string& path, const ImageRGB& image, const std::map<s
     } else {
       std::vector<unsigned char> bytes(image.data.size());
       for (size_t i = 0; i < bytes.size(); ++i)
-        bytes[i] = (unsigned char)std::lround(255.0f * srgbEncode(std::isfinite(image.data[i]) ? image.data[i] : 0.0f));
+        bytes[i] = (unsigned char)std::lround(255.0f * displayValue(image.data[i], display));
       ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
     }
     ok = out->close() && ok;
@@ -75,6 +75,12 @@ ImageRGB readImage(const std::string& path) {
   for (size_t i = 0; i < size_t(spec.width) * spec.height; ++i)
     for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = pixels[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
   return image;
+}
+
+bool isDisplayReferred(const std::string& path) {
+  auto in = openInput(path);
+  std::string format = in->format_name();
+  return format != "openexr" && format != "hdr" && format != "pfm";
 }
 
 std::map<std::string, std::string> readImageMetadata(const std::string& path) {

@@ -1,0 +1,49 @@
+// From linear radiance to display values, for PNGs and figures only (EXR stays linear and
+// untouched). Exposure first, a tone curve second, the sRGB transfer curve last:
+//   display = sRGB(curve(2^EV · L)).
+// Curves: `clamp` cuts at 1 (the default, and what photonlab's PNGs always were); `aces` is
+// Narkowicz's fit of the ACES filmic curve, f(x) = x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14),
+// which rolls highlights off instead of cutting them: f(1) = 0.80, f(4) = 0.97, white only
+// from x ≈ 7.2 (2.9 EV above 1), so a caustic's core keeps its shape.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common.h"
+
+namespace pl {
+
+enum class ToneCurve { Clamp, ACES };
+
+struct Display {
+  double exposure = 0.0;  // EV: linear values are multiplied by 2^exposure
+  ToneCurve curve = ToneCurve::Clamp;
+  bool isDefault() const { return exposure == 0.0 && curve == ToneCurve::Clamp; }
+};
+
+inline float acesFilmic(float x) {
+  x = std::max(x, 0.0f);
+  return std::min(1.0f, x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f));
+}
+
+inline float srgbTransfer(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+// A linear value's display value in [0, 1] (non-finite values show as 0).
+inline float displayValue(float linear, const Display& d) {
+  if (!std::isfinite(linear)) return 0.0f;
+  float x = linear * float(std::exp2(d.exposure));
+  return srgbTransfer(d.curve == ToneCurve::ACES ? acesFilmic(x) : x);
+}
+
+inline ToneCurve parseToneCurve(const std::string& name) {
+  if (name == "clamp") return ToneCurve::Clamp;
+  if (name == "aces") return ToneCurve::ACES;
+  throw Error("unknown tone curve '" + name + "' (clamp, aces)");
+}
+inline const char* toneCurveName(ToneCurve c) { return c == ToneCurve::ACES ? "aces" : "clamp"; }
+
+}  // namespace pl
