@@ -147,8 +147,18 @@ photons_per_pass = 2000
   CHECK(fs::exists(out + "/runs/01-path-4-spp/seed-2/final.png"));
   CHECK(fs::exists(out + "/runs/02-sppm/seed-1/final.exr"));
   const std::string resolved = slurp(out + "/experiment.toml");
-  CHECK_THAT(resolved, Contains("git_revision = "));
+  // The revision compiled into the binary (what `--version` says), not that of the folder the
+  // config sits in (a temporary folder here, outside any git checkout).
+  Result version = photonlab({"--version"});
+  REQUIRE(version.code == 0);
+  const std::string revision = version.out.substr(version.out.find(' ') + 1, version.out.find('\n') - version.out.find(' ') - 1);
+  CHECK_THAT(resolved, Contains("git_revision = '" + revision + "'"));
+  CHECK_THAT(photonlab({"info", out + "/runs/01-path-4-spp/seed-1/final.exr"}).out, Contains("\"git_revision\": \"" + revision + "\""));
+  // Every run's images name the reference they were measured against.
+  CHECK_THAT(photonlab({"info", out + "/runs/01-path-4-spp/seed-1/final.exr"}).out, Contains("\"reference_seed\": -1"));
+  CHECK_THAT(photonlab({"info", out + "/runs/01-path-4-spp/seed-1/final.exr"}).out, Contains("\"reference_integrator\": \"path\""));
   CHECK_THAT(resolved, Contains("cores = "));
+  CHECK_THAT(resolved, Contains("cpu = "));
   CHECK_THAT(resolved, Contains("height = 8"));  // resolved from the camera
 
   // A finished result is never overwritten silently.

@@ -24,6 +24,7 @@
 #include "scene/gltf_loader.h"
 
 namespace pl {
+extern const char* const kGitRevision;  // generated at build time (scripts/git_revision.cmake)
 int runBench(const std::string& scenePath, int threads, int spp);
 }
 
@@ -166,7 +167,8 @@ int cmdImageInfo(const std::string& imagePath) {
   ImageRGB image = readImage(imagePath);
   // Values that are text even when they happen to look like a number (a hash of digits only).
   static const std::set<std::string> text = {"integrator", "scene", "kernel", "aov", "label", "experiment",
-                                             "reference_file", "cache_key", "git_revision", "cpu", "tonemap"};
+                                             "reference_file", "cache_key", "git_revision", "cpu", "tonemap",
+                                             "reference_integrator", "reference_git_revision"};
   nlohmann::ordered_json j;
   j["width"] = image.width;
   j["height"] = image.height;
@@ -249,6 +251,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
   CLI::App app{"photonlab: light transport by photon mapping, with a path-traced ground truth"};
+  app.set_version_flag("--version", std::string("photonlab ") + kGitRevision);
   app.require_subcommand(0, 1);
 
   std::string scenePath, integratorName = "path";
@@ -334,7 +337,7 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "photonlab: %s\n", e.what());

@@ -21,6 +21,8 @@
 namespace pl {
 namespace fs = std::filesystem;
 
+extern const char* const kGitRevision;  // generated at build time (scripts/git_revision.cmake)
+
 // ---------------------------------------------------------------------------------------------
 // One run, whatever the integrator family.
 
@@ -89,7 +91,7 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
 
 std::map<std::string, std::string> runMetadata(const RunSettings& s, const CheckpointInfo& info, const std::string& scenePath) {
   std::map<std::string, std::string> m = {
-      {"integrator", s.integrator},         {"seed", seedString(s.image.seed)},
+      {"integrator", s.integrator},         {"seed", seedString(s.image.seed)}, {"git_revision", kGitRevision},
       {"seconds", formatNumber(info.seconds)},    {"scene", scenePath},
       {"max_depth", std::to_string(s.options.maxDepth)},
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
@@ -237,24 +239,18 @@ void writeFileAtomic(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-std::string commandOutput(const std::string& cmd) {
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[256];
-    while (fgets(buf, sizeof buf, p)) out += buf;
-    if (pclose(p) != 0) return "";
+// The processor's model name (/proc/cpuinfo), or "unknown".
+std::string cpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    auto colon = line.find(':');
+    if (colon == std::string::npos) break;
+    std::string model = line.substr(colon + 1);
+    while (!model.empty() && model.front() == ' ') model.erase(model.begin());
+    return model;
   }
-  while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
-  return out;
-}
-
-std::string gitRevision(const fs::path& dir) {
-  std::string quoted = "'" + dir.string() + "'";
-  if (dir.string().find('\'') != std::string::npos) return "unknown";
-  std::string rev = commandOutput("git -C " + quoted + " rev-parse HEAD 2>/dev/null");
-  if (rev.empty()) return "unknown";
-  if (!commandOutput("git -C " + quoted + " status --porcelain --untracked-files=no 2>/dev/null").empty()) rev += "-dirty";
-  return rev;
+  return "unknown";
 }
 
 // The config hash a previous `photonlab run` recorded in DIR/experiment.toml, or "".
@@ -351,8 +347,9 @@ class Experiment {
     std::vector<std::pair<std::string, std::string>> provenance = {
         {"config_file", fs::absolute(c_.path).lexically_normal().string()},
         {"config_hash", configHash_},
-        {"git_revision", gitRevision(fs::absolute(c_.path).parent_path())},
+        {"git_revision", kGitRevision},
         {"cores", std::to_string(std::thread::hardware_concurrency())},
+        {"cpu", cpuModel()},
         {"photonlab_threads", std::to_string(c_.threads)},
     };
     if (!resuming_) writeFileAtomic(out_ / "experiment.toml", resolvedConfigToml(c_, provenance));
@@ -421,6 +418,7 @@ class Experiment {
                     std::to_string(c_.height));
       writeImage((out_ / "reference.exr").string(), reference_, {{"reference_file", c_.reference.file}});
       writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+      referenceSummary_ = {{"reference_file", c_.reference.file}};
       return;
     }
     const RunSettings& s = c_.reference.settings;
@@ -453,6 +451,10 @@ class Experiment {
     fs::remove(out_ / "reference.exr", ec);
     fs::copy_file(cached, out_ / "reference.exr", fs::copy_options::overwrite_existing);
     writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+    // What every run's images say about the reference they were measured against.
+    auto meta = readImageMetadata(cached.string());
+    for (const char* k : {"integrator", "seed", "seconds", "spp", "passes", "photons", "git_revision"})
+      if (meta.count(k)) referenceSummary_[std::string("reference_") + k] = meta[k];
   }
 
   int renderRuns() {
@@ -504,6 +506,7 @@ class Experiment {
       auto meta = runMetadata(s, info, c_.scene);
       meta["label"] = rc.label;
       meta["experiment"] = c_.name;
+      for (auto& [k, v] : referenceSummary_) meta[k] = v;
       // Checkpoints are spp-NNNN.exr (pass-NNNN.exr); the last one is final.exr, or partial.exr
       // when interrupted, with a PNG beside it. Each image is written once.
       const bool final = info.last && !info.interrupted;
@@ -569,6 +572,7 @@ class Experiment {
   fs::path out_;
   bool resuming_ = false;
   ImageRGB reference_;
+  std::map<std::string, std::string> referenceSummary_;  // reference_integrator, _seed, _seconds, ...
   std::vector<Row> rows_;
 };
 
