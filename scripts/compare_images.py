@@ -1,14 +1,22 @@
 #!/usr/bin/python3
-"""Side-by-side comparison of an experiment: the reference and each run's final image (first
-seed), a zoomed inset of the region `inset = [x, y, width, height]` given in the experiment
-config, and false-colour maps of the per-pixel relative squared error (x − r)²/(r² + 0.01), on
-one logarithmic colour scale shared by all runs.
+"""Side-by-side comparison of an experiment, one column per image (the reference, then each
+run's final image for its first seed), rows:
+  1. the images, shown as the experiment's PNGs are (its `exposure` and `tonemap`);
+  2. the zoomed inset `inset = [x, y, width, height]` (if the config gives one), with the ACES
+     curve and an exposure lowered until the reference inset's brightest region (a caustic's
+     core) is not clipped flat white; the same exposure for every column;
+  3. the per-pixel relative squared error (x − r)²/(r² + 0.01), one logarithmic scale for all
+     runs (its mean is the run's relMSE): where the error is;
+  4. the signed relative difference (x − r)/(r + 0.1), a diverging scale symmetric about 0:
+     bias shows as regions of one sign (too dark: blue, too bright: red), noise as speckle.
 
     scripts/compare_images.py results/<name>/ [--out PREFIX]
 
 Writes PREFIX.png and PREFIX.pdf (default results/<name>/comparison)."""
 import os
 import sys
+
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import experiment_results as er  # noqa: E402
@@ -35,9 +43,10 @@ def plot(results_dir, out_prefix):
     matplotlib.use("Agg")
     import matplotlib.patches as patches
     import matplotlib.pyplot as plt
-    from matplotlib.colors import LogNorm
+    from matplotlib.colors import LogNorm, Normalize
 
     config = er.read_config(results_dir)
+    exposure, tonemap = er.display_of(config)
     inset = config.get("inset")
     items = panels(results_dir)
     reference = er.read_exr(items[0][1])
@@ -47,35 +56,49 @@ def plot(results_dir, out_prefix):
             raise er.ResultsError(f"{path}: {img.shape[1]}x{img.shape[0]}, the reference is "
                                   f"{reference.shape[1]}x{reference.shape[0]}")
     errors = [er.relmse_map(img, reference) for img in images[1:]]
+    signed = [er.signed_difference_map(img, reference) for img in images[1:]]
     vmax = max([float(e.max()) for e in errors] + [1e-3])
     norm = LogNorm(vmin=max(vmax * 1e-4, 1e-6), vmax=vmax)
+    # Symmetric limits: the 99th percentile of |difference| over all runs, between 5% and 100%.
+    limit = float(np.clip(np.percentile(np.abs(np.concatenate([s.ravel() for s in signed])), 99), 0.05, 1.0)) if signed else 1.0
+    signed_norm = Normalize(vmin=-limit, vmax=limit)
+    if inset:
+        x, y, w, h = inset
+        inset_ev = er.inset_exposure(reference[y:y + h, x:x + w], exposure)
 
     n = len(items)
-    nrows = 3 if inset else 2
-    fig, axes = plt.subplots(nrows, n, figsize=(2.6 * n + 0.8, 2.7 * nrows), squeeze=False, constrained_layout=True)
+    rows = ["image"] + (["inset"] if inset else []) + ["relmse", "signed"]
+    fig, axes = plt.subplots(len(rows), n, figsize=(2.6 * n + 1.2, 2.7 * len(rows)), squeeze=False, constrained_layout=True)
+    last_err = last_signed = None
     for col, ((title, _, _), img) in enumerate(zip(items, images)):
-        ax = axes[0][col]
-        ax.imshow(er.to_srgb(img), interpolation="nearest")
+        ax = axes[rows.index("image")][col]
+        ax.imshow(er.to_display(img, exposure, tonemap), interpolation="nearest")
         ax.set_title(title, fontsize=8)
         if inset:
-            x, y, w, h = inset
             ax.add_patch(patches.Rectangle((x - 0.5, y - 0.5), w, h, fill=False, edgecolor="yellow", linewidth=1))
-            axes[1][col].imshow(er.to_srgb(img[y:y + h, x:x + w]), interpolation="nearest")
-            axes[1][col].set_title("inset", fontsize=8)
-    last = None
-    for col in range(n):
-        ax = axes[nrows - 1][col]
-        if col == 0:
-            ax.text(0.5, 0.5, "relative squared error\n(x − r)² / (r² + 0.01)", ha="center", va="center", fontsize=8)
-        else:
-            last = ax.imshow(errors[col - 1] + 1e-12, cmap="inferno", norm=norm, interpolation="nearest")
+            axes[rows.index("inset")][col].imshow(er.to_display(img[y:y + h, x:x + w], inset_ev, "aces"), interpolation="nearest")
+            axes[rows.index("inset")][col].set_title(f"inset (ACES, {inset_ev:+.1f} EV)", fontsize=8)
+        for name, maps, cmap, nrm in [("relmse", errors, "inferno", norm), ("signed", signed, "RdBu_r", signed_norm)]:
+            ax = axes[rows.index(name)][col]
+            if col == 0:
+                text = ("relative squared error\n(x − r)² / (r² + 0.01)\nlog scale; its mean is relMSE" if name == "relmse"
+                        else "signed relative difference\n(x − r) / (r + 0.1)\nred: too bright, blue: too dark")
+                ax.text(0.5, 0.5, text, ha="center", va="center", fontsize=8)
+                continue
+            shown = ax.imshow(maps[col - 1] + (1e-12 if name == "relmse" else 0.0), cmap=cmap, norm=nrm, interpolation="nearest")
+            if name == "relmse":
+                last_err = shown
+            else:
+                last_signed = shown
     for row in axes:
         for ax in row:
             ax.set_xticks([])
             ax.set_yticks([])
-    if last is not None:
-        fig.colorbar(last, ax=list(axes[nrows - 1]), shrink=0.9, label="relative squared error")
-    fig.suptitle(f'{config.get("name", "")}: reference and runs')
+    if last_err is not None:
+        fig.colorbar(last_err, ax=list(axes[rows.index("relmse")]), shrink=0.9, label="relative squared error")
+        fig.colorbar(last_signed, ax=list(axes[rows.index("signed")]), shrink=0.9, label="(x − r) / (r + 0.1)")
+    display = f"exposure {exposure:+g} EV, {tonemap}"
+    fig.suptitle(f'{config.get("name", "")}: reference and runs ({display}; first seed of each run)')
     return er.save_figure(fig, out_prefix)
 
 

@@ -74,16 +74,120 @@ def read_exr(path):
     return np.asarray(pixels[:, :, :3], dtype=np.float64)
 
 
-def to_srgb(linear):
-    """Display transform photonlab's PNGs use: clamp to [0, 1], then the sRGB curve."""
-    x = np.clip(linear, 0.0, 1.0)
+def aces_filmic(x):
+    """Narkowicz's fit of the ACES filmic curve, as photonlab's PNGs use it (src/io/tonemap.h):
+    highlights roll off (f(1) = 0.80, f(4) = 0.97) instead of clipping; white from x ≈ 7.2."""
+    x = np.maximum(x, 0.0)
+    return np.minimum(1.0, x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))
+
+
+def to_display(linear, exposure=0.0, tonemap="clamp"):
+    """Linear radiance to display values in [0, 1], as photonlab's PNGs: × 2^exposure, the tone
+    curve ("clamp" or "aces"), then the sRGB transfer curve."""
+    x = np.nan_to_num(np.asarray(linear, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0) * 2.0 ** exposure
+    x = aces_filmic(x) if tonemap == "aces" else np.clip(x, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def to_srgb(linear):
+    """photonlab's default PNG transform: clamp to [0, 1], then the sRGB curve."""
+    return to_display(linear)
+
+
+def display_of(config):
+    """(exposure, tonemap) of an experiment's resolved config (defaults 0 and "clamp")."""
+    return float(config.get("exposure", 0.0)), str(config.get("tonemap", "clamp"))
+
+
+def luminance(rgb):
+    """Rec. 709 / sRGB luminance of linear RGB."""
+    return rgb[..., 0] * 0.2126 + rgb[..., 1] * 0.7152 + rgb[..., 2] * 0.0722
+
+
+def inset_exposure(reference_inset, exposure):
+    """Exposure for a zoomed inset shown with the ACES curve: the experiment's, lowered when needed
+    so that the reference inset's 99.9th-percentile luminance lands at 4 (display 0.97), so that
+    its brightest region, a caustic's core, keeps its shape instead of clipping flat white."""
+    peak = float(np.percentile(luminance(reference_inset), 99.9)) if reference_inset.size else 0.0
+    if not (peak > 0 and math.isfinite(peak)):
+        return exposure
+    return min(exposure, math.log2(4.0 / peak))
 
 
 def relmse_map(image, reference):
     """Per-pixel relative squared error, averaged over channels: (x − r)² / (r² + 0.01), the same
     definition as photonlab's relmse (so its mean over pixels is the relmse column)."""
     return np.mean((image - reference) ** 2 / (reference ** 2 + 0.01), axis=2)
+
+
+# ε of the signed relative difference: √0.01, so that where r ≫ ε its square is the relMSE term.
+SIGNED_EPSILON = 0.1
+
+
+def signed_difference_map(image, reference):
+    """Per-pixel signed relative difference, averaged over channels: (x − r) / (r + ε). Bias shows
+    as coherent regions of one sign (blur: a bright edge too dark and its neighbour too bright;
+    darkening: blue everywhere), noise as speckle of both signs."""
+    return np.mean((image - reference) / (reference + SIGNED_EPSILON), axis=2)
+
+
+def loglog_at(xs, ys, x):
+    """y at x on the piecewise-linear log–log curve through (xs, ys) (xs increasing); None outside."""
+    pts = [(a, b) for a, b in zip(xs, ys) if a > 0 and b > 0]
+    for (x0, y0), (x1, y1) in zip(pts, pts[1:]):
+        if x0 <= x <= x1:
+            if x1 == x0:
+                return y0
+            t = (math.log(x) - math.log(x0)) / (math.log(x1) - math.log(x0))
+            return math.exp(math.log(y0) + t * (math.log(y1) - math.log(y0)))
+    if pts and x == pts[-1][0]:
+        return pts[-1][1]
+    return None
+
+
+def loglog_time_to(xs, ys, target):
+    """The first x at which the log–log curve through (xs, ys) reaches y = target (interpolated);
+    xs[0] if it starts below, None if it never gets there."""
+    pts = [(a, b) for a, b in zip(xs, ys) if a > 0 and b > 0]
+    if not pts:
+        return None
+    if pts[0][1] <= target:
+        return pts[0][0]
+    for (x0, y0), (x1, y1) in zip(pts, pts[1:]):
+        if y1 <= target < y0:
+            t = (math.log(target) - math.log(y0)) / (math.log(y1) - math.log(y0))
+            return math.exp(math.log(x0) + t * (math.log(x1) - math.log(x0)))
+    return None
+
+
+def mean_curve(run, x_of, metric):
+    """A run's curve over its checkpoints: x the mean over seeds, y the geometric mean over seeds
+    (and the min and max), one point per checkpoint index."""
+    by_index = {}
+    for seq in run["seeds"].values():
+        for r in seq:
+            by_index.setdefault(int(r["checkpoint"]), []).append(r)
+    xs, ys, lo, hi = [], [], [], []
+    for _, group in sorted(by_index.items()):
+        values = [r[metric] for r in group if r[metric] > 0]
+        x = sum(x_of(r) for r in group) / len(group)
+        if not values or x <= 0:
+            continue
+        xs.append(x)
+        ys.append(geometric_mean(values))
+        lo.append(min(values))
+        hi.append(max(values))
+    return xs, ys, lo, hi
+
+
+def read_image_metadata(path):
+    """photonlab's metadata attributes of an image (the "photonlab:" prefix removed), as strings."""
+    import OpenImageIO as oiio
+    if not os.path.isfile(path):
+        return {}
+    buf = oiio.ImageBuf(path)
+    spec = buf.spec()
+    return {a.name[len("photonlab:"):]: str(a.value) for a in spec.extra_attribs if a.name.startswith("photonlab:")}
 
 
 def runs(rows):
@@ -124,7 +228,7 @@ def save_figure(fig, out_prefix):
     import matplotlib.pyplot as plt
     written = []
     for ext in ("png", "pdf"):
-        fig.savefig(f"{out_prefix}.{ext}.tmp", format=ext, dpi=110)
+        fig.savefig(f"{out_prefix}.{ext}.tmp", format=ext, dpi=110, bbox_inches="tight")
         os.replace(f"{out_prefix}.{ext}.tmp", f"{out_prefix}.{ext}")
         written.append(f"{out_prefix}.{ext}")
     plt.close(fig)

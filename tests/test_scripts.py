@@ -72,7 +72,7 @@ def synthetic_results(tmp_path, columns=COLUMNS):
         w.writeheader()
         w.writerows(rows)
     (d / "experiment.toml").write_text('name = "synthetic"\nwidth = 32\nheight = 24\ninset = [4, 4, 8, 8]\n'
-                                       '[provenance]\ngit_revision = "abc"\ncores = "2"\n')
+                                       '[provenance]\ngit_revision = "abc"\ncores = "2"\ncpu = "Test CPU"\n')
     return str(d)
 
 
@@ -104,6 +104,8 @@ def test_plots_and_report_are_written(tmp_path):
     assert r.returncode == 0, r.stderr
     page = open(os.path.join(d, "index.html"), encoding="utf-8").read()
     assert "A, path" in page and "<table>" in page
+    assert "<h2>Summary</h2>" in page and "speed-up over A, path" in page
+    assert "Test CPU" in page  # the machine
     # Means over seeds in the table: relMSE of A's finals is (1/8 + 2/8)/2.
     assert f"{(1 / 8 + 2 / 8) / 2:.4g}" in page
     # Every relative link resolves: the page works offline and moves with the folder.
@@ -138,6 +140,60 @@ def test_relmse_map_is_photonlabs_relmse():
     img = ref + rng.normal(0, 0.1, ref.shape)
     expected = np.mean((img - ref) ** 2 / (ref ** 2 + 0.01))
     assert er.relmse_map(img, ref).mean() == pytest.approx(expected, rel=1e-12)
+
+
+def test_summary_equal_time_time_to_target_and_speedup_on_power_laws(tmp_path):
+    # A: relMSE = √2/spp (geometric mean of its two seeds) at t = 0.1·spp s, 1..8 spp.
+    # B: relMSE = passes^(−2/3) at t = 0.2·passes s, 1..16 passes. Both straight lines in
+    # log–log, so interpolation between checkpoints is exact:
+    #   equal time = the shorter final time, 0.8 s: A √2/8, B at 4 passes 4^(−2/3);
+    #   target = the larger final relMSE, √2/8 (A's); B reaches it at passes = (√2/8)^(−3/2),
+    #   t = 0.2 · that = 2.691 s; speed-up of B over the baseline A = 0.8 / 2.691.
+    rows = er.read_metrics(synthetic_results(tmp_path))
+    table, equal_time, target, baseline = report.summary_table(rows, {})
+    assert equal_time == pytest.approx(0.8)
+    assert target == pytest.approx(2 ** 0.5 / 8)
+    assert baseline == "A, path"
+    a, b = table
+    assert a["relmse_at_equal_time"] == pytest.approx(2 ** 0.5 / 8)
+    assert b["relmse_at_equal_time"] == pytest.approx(4 ** (-2 / 3))
+    tb = 0.2 * (2 ** 0.5 / 8) ** (-1.5)
+    assert a["time_to_target"] == pytest.approx(0.8)
+    assert b["time_to_target"] == pytest.approx(tb)
+    assert a["speedup"] == pytest.approx(1.0) and a["baseline"]
+    assert b["speedup"] == pytest.approx(0.8 / tb)
+    # A chosen baseline and target: B reaches relMSE 0.2 at passes 0.2^(−3/2).
+    table, _, target, baseline = report.summary_table(rows, {"baseline": "B", "target_relmse": 0.2})
+    assert baseline == "B" and target == 0.2
+    assert table[1]["time_to_target"] == pytest.approx(0.2 * 0.2 ** -1.5)
+    assert table[1]["speedup"] == pytest.approx(1.0)
+    # A curve that never gets there: no time, no speed-up.
+    assert er.loglog_time_to([1, 2, 4], [0.5, 0.4, 0.35], 0.1) is None
+    assert er.loglog_at([1, 10], [1.0, 0.1], 3.0) == pytest.approx(1 / 3)
+    assert er.loglog_at([1, 10], [1.0, 0.1], 20) is None
+
+
+def test_signed_difference_and_display_transforms():
+    ref = np.full((2, 2, 3), 0.4)
+    img = ref.copy()
+    img[0, 0] = 0.6  # too bright: +0.2/(0.4 + 0.1)
+    img[1, 1] = 0.2  # too dark
+    d = er.signed_difference_map(img, ref)
+    assert d[0, 0] == pytest.approx(0.4) and d[1, 1] == pytest.approx(-0.4) and d[0, 1] == 0
+    # The same curves as photonlab's PNGs (src/io/tonemap.h): clamp by default; Narkowicz's ACES.
+    x = np.array([0.0, 0.25, 1.0, 4.0, 100.0])
+    assert np.allclose(er.to_display(x), er.to_srgb(x))
+    f = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)
+    srgb = lambda v: np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)  # noqa: E731
+    assert np.allclose(er.to_display(x, 0, "aces"), srgb(np.minimum(f, 1)))
+    assert np.allclose(er.to_display(x, 1.0), er.to_display(2 * x))
+    # An inset whose brightest pixels are at 50: exposure lowered so they land at 4 (not white).
+    inset = np.full((10, 10, 3), 0.5)
+    inset[0, :3] = 50.0
+    ev = er.inset_exposure(inset, 0.0)
+    assert 2 ** ev * 50 == pytest.approx(4.0, rel=0.05)
+    assert er.to_display(inset * 2 ** ev, 0, "aces").max() < 0.99
+    assert er.inset_exposure(np.full((4, 4, 3), 0.5), 0.0) == 0.0  # nothing bright: unchanged
 
 
 def screenshot(html, png, size="1200,2600"):
@@ -191,3 +247,7 @@ def test_end_to_end_photonlab_run_then_report(tmp_path):
     assert -1.4 < slope < -0.6
     px = screenshot(os.path.join(out, "index.html"), str(tmp_path / "shot.png"))
     assert fraction_near(px, (255, 255, 255)) < 0.97
+    # The report states its reference: integrator, seed (its own stream), work and time.
+    page = open(os.path.join(out, "index.html"), encoding="utf-8").read()
+    assert "<h2>Reference</h2>" in page and "Integrator <b>path</b>" in page and "seed -1" in page
+    assert "64 spp" in page and "rendered in" in page
