@@ -173,6 +173,33 @@ def test_summary_equal_time_time_to_target_and_speedup_on_power_laws(tmp_path):
     assert er.loglog_at([1, 10], [1.0, 0.1], 20) is None
 
 
+def test_convergence_plot_guides_through_each_last_point_and_a_legend_in_every_panel(tmp_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots()
+    xs, ys = [1, 2, 4, 8, 16, 32], [1.0, 0.5, 0.3, 0.2, 0.1, 0.05]
+    plot_convergence.slope_guides(ax, xs, ys, "rmse", "C0")
+    for line, slope in zip(ax.get_lines(), [-0.5, -1 / 3]):  # RMSE: half the MSE slopes
+        (x0, x1), (y0, y1) = line.get_data()
+        assert (x1, y1) == (32, 0.05)  # anchored at the last point
+        assert x0 == pytest.approx(3.2)  # one decade back
+        assert np.log(y1 / y0) / np.log(x1 / x0) == pytest.approx(slope)
+    plt.close(fig)
+    d = synthetic_results(tmp_path)
+    figure = {}
+    orig = er.save_figure
+    er.save_figure = lambda fig, prefix: figure.setdefault("fig", fig) and []
+    try:
+        plot_convergence.plot(d, str(tmp_path / "c"))
+    finally:
+        er.save_figure = orig
+    axes = figure["fig"].get_axes()
+    assert len(axes) == 6  # relMSE, RMSE, mean ratio × time, work
+    assert all(ax.get_legend() is not None for ax in axes)
+    assert {ax.get_xlabel() for ax in axes} == {"render time (s)", "samples per pixel, or photon passes"}
+
+
 def test_signed_difference_and_display_transforms():
     ref = np.full((2, 2, 3), 0.4)
     img = ref.copy()
