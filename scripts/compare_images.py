@@ -6,7 +6,7 @@ run's final image for its first seed), rows:
      curve and an exposure lowered until the reference inset's brightest region (a caustic's
      core) is not clipped flat white; the same exposure for every column;
   3. the per-pixel relative squared error (x − r)²/(r² + 0.01), one logarithmic scale for all
-     runs (its mean is the run's relMSE): where the error is;
+     runs topped at their 99.9th percentile (its mean is the run's relMSE): where the error is;
   4. the signed relative difference (x − r)/(r + 0.1), a diverging scale symmetric about 0:
      bias shows as regions of one sign (too dark: blue, too bright: red), noise as speckle.
 
@@ -57,7 +57,9 @@ def plot(results_dir, out_prefix):
                                   f"{reference.shape[1]}x{reference.shape[0]}")
     errors = [er.relmse_map(img, reference) for img in images[1:]]
     signed = [er.signed_difference_map(img, reference) for img in images[1:]]
-    vmax = max([float(e.max()) for e in errors] + [1e-3])
+    # One log scale for all runs, topped at the 99.9th percentile over all of them: a few
+    # fireflies in one run would otherwise set the top and push every other map to black.
+    vmax = max(float(np.percentile(np.concatenate([e.ravel() for e in errors]), 99.9)) if errors else 0.0, 1e-3)
     norm = LogNorm(vmin=max(vmax * 1e-4, 1e-6), vmax=vmax)
     # Symmetric limits: the 99th percentile of |difference| over all runs, between 5% and 100%.
     limit = float(np.clip(np.percentile(np.abs(np.concatenate([s.ravel() for s in signed])), 99), 0.05, 1.0)) if signed else 1.0

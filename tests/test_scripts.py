@@ -278,3 +278,23 @@ def test_end_to_end_photonlab_run_then_report(tmp_path):
     page = open(os.path.join(out, "index.html"), encoding="utf-8").read()
     assert "<h2>Reference</h2>" in page and "Integrator <b>path</b>" in page and "seed -1" in page
     assert "64 spp" in page and "rendered in" in page
+
+
+def test_readme_numbers_fill_marked_blocks_only(tmp_path):
+    import readme_numbers
+    d = synthetic_results(tmp_path)
+    write_exr(os.path.join(d, "reference.exr"), RED)
+    readme = tmp_path / "README.md"
+    readme.write_text("intro\n<!-- experiment:synthetic:begin -->\nold numbers\n<!-- experiment:synthetic:end -->\ntail\n")
+    assert readme_numbers.main(["--readme", str(readme), "--experiment", d]) == 0
+    text = readme.read_text()
+    assert text.startswith("intro\n") and text.endswith("tail\n") and "old numbers" not in text
+    assert "| A, path | 2 |" in text and "| B | 1 |" in text
+    assert "readme_numbers.py --experiment" in text  # the block says how it was made
+    # Idempotent, and a missing block is an error that leaves the file alone.
+    assert readme_numbers.main(["--readme", str(readme), "--experiment", d]) == 0
+    assert readme.read_text() == text
+    other = tmp_path / "OTHER.md"
+    other.write_text("nothing marked\n")
+    assert readme_numbers.main(["--readme", str(other), "--experiment", d]) == 2
+    assert other.read_text() == "nothing marked\n"

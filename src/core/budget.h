@@ -6,6 +6,7 @@
 // 2¹⁶ reads of nanoflann's build). SIGINT and SIGTERM (core/interrupt.h) raise it too.
 // Polling is one relaxed atomic load, so it costs nothing measurable per pixel.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -29,6 +30,10 @@ class Budget {
   bool expired() const { return timeUp_.load(std::memory_order_relaxed) || interruptRequested(); }
   bool timeUp() const { return timeUp_.load(std::memory_order_relaxed); }
   double limit() const { return limit_; }
+  // How far past the limit (or past an interrupt) a piece of work that does not poll may run:
+  // max(0.25 s, 3% of the limit) as equal-time comparisons require, and at most 0.5 s (the
+  // allowance without a limit) so that an interrupt takes effect well within 1 s.
+  double granularity() const { return limit_ > 0 ? std::min(0.5, std::max(0.25, 0.03 * limit_)) : 0.5; }
   // Seconds since construction, minus the time spent in excluding().
   double elapsed() const;
   // Runs fn without counting its time (checkpoints write images: that is neither part of the
