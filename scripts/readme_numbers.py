@@ -69,12 +69,12 @@ def experiment_block(results_dir):
              "|---|---|---|---|---|---|---|---|---|"]
     for t in table:
         s = by_run.get(t["run"], {})
-        speed = "1" if s.get("baseline") else (f"{s['speedup']:.2f}×" if s.get("speedup") else "—")
+        speed = "1" if s.get("baseline") else (f"{s['speedup']:.3g}×" if s.get("speedup") else "—")
         sd = f" ± {t['relmse_sd']:.2g}" if t["seeds"] > 1 else ""
         lines.append(f"| {t['label']} | {t['seeds']} | {t['seconds']:.1f} | {t['work']:.0f} {t['work_unit']} | "
                      f"{t['relmse']:.4g}{sd} | {t['mean_ratio']:.3f} | "
                      f"{report.fmt(s.get('relmse_at_equal_time'), '.4g')} | "
-                     f"{report.fmt(s.get('time_to_target'), '.3g')} s | {speed} |")
+                     f"{report.fmt(s.get('time_to_target'), '.3g')}{' s' if s.get('time_to_target') else ''} | {speed} |")
     return "\n".join(lines) + "\n"
 
 

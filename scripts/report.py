@@ -3,9 +3,9 @@
 results/<name>/index.html, one page with
   - the reference: its integrator, settings, seed, render time and revision;
   - a summary: each run's relMSE at equal time (the shortest run's time), its time to reach a
-    target relMSE (the config's `target_relmse`, or the largest final relMSE of the runs), and
-    its speed-up over the baseline run (the config's `baseline`, or the first run) at that
-    target, all read off the convergence curves by log–log interpolation;
+    target relMSE (the config's `target_relmse`, or the baseline's final relMSE), and its
+    speed-up over the baseline run (the config's `baseline`, or the first run) at that target,
+    all read off the convergence curves by log–log interpolation;
   - the table of final errors (mean over seeds), the images and the figures;
   - the machine (CPU model, cores) and the photonlab revision that rendered it.
 The page uses relative links only, so it opens offline and moves with the folder.
@@ -53,18 +53,20 @@ def summary_table(rows, config):
 
     Curves are each run's geometric mean of relMSE over seeds against the mean time over seeds
     (plot_convergence's lines). Equal time is the shortest run's final time; the target is
-    `target_relmse`, or else the largest final relMSE among the runs (which every run reaches,
-    unless its curve rises again). Speed-up = baseline's time to the target / the run's."""
+    `target_relmse`, or else the baseline's final relMSE: "how long does each method take to
+    reach the baseline's quality". Speed-up = baseline's time to the target / the run's."""
     runs = er.runs(rows)
     curves = {i: er.mean_curve(run, lambda r: r["seconds"], "relmse") for i, run in runs.items()}
     curves = {i: c for i, c in curves.items() if c[0]}
     if not curves:
         return [], None, None, None
     equal_time = min(c[0][-1] for c in curves.values())
-    target = float(config.get("target_relmse", 0) or 0) or max(c[1][-1] for c in curves.values())
     baseline_label = config.get("baseline") or runs[min(runs)]["label"]
-    times = {i: er.loglog_time_to(c[0], c[1], target) for i, c in curves.items()}
     baseline = next((i for i, run in runs.items() if run["label"] == baseline_label), min(runs))
+    if baseline not in curves:
+        baseline = min(curves)
+    target = float(config.get("target_relmse", 0) or 0) or curves[baseline][1][-1]
+    times = {i: er.loglog_time_to(c[0], c[1], target) for i, c in curves.items()}
     out = []
     for i, (xs, ys, _, _) in curves.items():
         t = times[i]
@@ -142,14 +144,14 @@ def write_html(results_dir, config, table, summary=None, reference=None):
                      f"<th>relMSE at {equal_time:.3g} s (equal time)</th>"
                      f"<th>time to relMSE {target:.3g} (s)</th><th>speed-up over {e(baseline)}</th></tr>")
         for r in rows:
-            speed = "1 (baseline)" if r["baseline"] else (fmt(r["speedup"], ".2f") + "×" if r["speedup"] else "—")
+            speed = "1 (baseline)" if r["baseline"] else (fmt(r["speedup"], ".3g") + "×" if r["speedup"] else "—")
             lines.append(f"<tr><td>{e(r['label'])}</td><td>{e(r['integrator'])}</td>"
                          f"<td>{fmt(r['relmse_at_equal_time'], '.4g')}</td><td>{fmt(r['time_to_target'], '.3g')}</td>"
                          f"<td>{speed}</td></tr>")
         lines.append("</table><p>Read off each run's convergence curve (geometric mean of relMSE over seeds against "
                      "render time) by log–log interpolation between checkpoints. Equal time: the shortest run's final "
                      "time. Target: " + ("the config's <code>target_relmse</code>" if config.get("target_relmse")
-                                        else "the largest final relMSE among the runs") +
+                                        else "the baseline's final relMSE") +
                      ". Speed-up: the baseline's time to the target over the run's; — where a curve never reaches it "
                      "(an error that levels off, e.g. a path tracer missing a caustic).</p>")
     lines.append("<h2>Final errors</h2><table><tr><th>run</th><th>integrator</th><th>seeds</th><th>seconds</th>"

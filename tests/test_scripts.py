@@ -147,7 +147,7 @@ def test_summary_equal_time_time_to_target_and_speedup_on_power_laws(tmp_path):
     # B: relMSE = passes^(−2/3) at t = 0.2·passes s, 1..16 passes. Both straight lines in
     # log–log, so interpolation between checkpoints is exact:
     #   equal time = the shorter final time, 0.8 s: A √2/8, B at 4 passes 4^(−2/3);
-    #   target = the larger final relMSE, √2/8 (A's); B reaches it at passes = (√2/8)^(−3/2),
+    #   target = the baseline's (A's) final relMSE, √2/8; B reaches it at passes = (√2/8)^(−3/2),
     #   t = 0.2 · that = 2.691 s; speed-up of B over the baseline A = 0.8 / 2.691.
     rows = er.read_metrics(synthetic_results(tmp_path))
     table, equal_time, target, baseline = report.summary_table(rows, {})
@@ -162,6 +162,12 @@ def test_summary_equal_time_time_to_target_and_speedup_on_power_laws(tmp_path):
     assert b["time_to_target"] == pytest.approx(tb)
     assert a["speedup"] == pytest.approx(1.0) and a["baseline"]
     assert b["speedup"] == pytest.approx(0.8 / tb)
+    # B as the baseline: the target is B's final relMSE, 16^(−2/3) = 0.157, reached by B at its
+    # end (3.2 s); A would need spp = √2·16^(2/3) = 9.0 > 8, beyond its last checkpoint: never.
+    table, _, target, _ = report.summary_table(rows, {"baseline": "B"})
+    assert target == pytest.approx(16 ** (-2 / 3))
+    assert table[1]["time_to_target"] == pytest.approx(3.2)
+    assert table[0]["time_to_target"] is None and table[0]["speedup"] is None
     # A chosen baseline and target: B reaches relMSE 0.2 at passes 0.2^(−3/2).
     table, _, target, baseline = report.summary_table(rows, {"baseline": "B", "target_relmse": 0.2})
     assert baseline == "B" and target == 0.2

@@ -54,7 +54,7 @@ struct ExperimentConfig {
   std::optional<std::array<int, 4>> inset;  // x, y, w, h in pixels: the zoomed region of the comparison figure
   Display display;           // exposure (EV) and tone curve of the PNGs and figures; EXR stays linear
   std::string baseline;      // the run the report's speed-ups are relative to (a label; default: the first run)
-  double targetRelmse = 0;   // the report's "time to reach" target; 0: the largest final relMSE of the runs
+  double targetRelmse = 0;   // the report's "time to reach" target; 0: the baseline's final relMSE
   ReferenceConfig reference;
   std::vector<RunConfig> runs;
 };
