@@ -84,7 +84,15 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   // they came from glibc's per-thread arenas, whose growth and trimming (mprotect, madvise)
   // serialise with the other thread's page faults: two threads traced at 43% of the bare
   // Embree rate instead of 57% (README, Performance).
-  for (auto& buffer : buffers) buffer.reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
+  // For 10⁸ paths that is 24 000 allocations, a second or two: the budget is polled here too.
+  for (auto& buffer : buffers) {
+    if (o.budget && o.budget->expired()) {
+      stats->complete = false;
+      stats->traceSeconds += since(t0);
+      return PhotonMap();
+    }
+    buffer.reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
+  }
   std::atomic<bool> stopped{false};
   parallelFor(chunks, resolveThreads(o.threads), [&](size_t c, int) {
     if (o.budget && o.budget->expired()) {  // a chunk is ~2 ms of tracing
