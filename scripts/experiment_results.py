@@ -160,21 +160,22 @@ def loglog_time_to(xs, ys, target):
     return None
 
 
-def mean_curve(run, x_of, metric):
-    """A run's curve over its checkpoints: x the mean over seeds, y the geometric mean over seeds
-    (and the min and max), one point per checkpoint index."""
+def mean_curve(run, x_of, metric, geometric=True):
+    """A run's curve over its checkpoints, one point per checkpoint index: x the mean over seeds,
+    y the geometric mean over seeds (errors; zeros skipped) or the arithmetic one (the mean
+    ratio), and the min and max."""
     by_index = {}
     for seq in run["seeds"].values():
         for r in seq:
             by_index.setdefault(int(r["checkpoint"]), []).append(r)
     xs, ys, lo, hi = [], [], [], []
     for _, group in sorted(by_index.items()):
-        values = [r[metric] for r in group if r[metric] > 0]
+        values = [float(r[metric]) for r in group if not geometric or r[metric] > 0]
         x = sum(x_of(r) for r in group) / len(group)
         if not values or x <= 0:
             continue
         xs.append(x)
-        ys.append(geometric_mean(values))
+        ys.append(geometric_mean(values) if geometric else sum(values) / len(values))
         lo.append(min(values))
         hi.append(max(values))
     return xs, ys, lo, hi

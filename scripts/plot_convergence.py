@@ -75,10 +75,8 @@ def plot(results_dir, out_prefix):
                 color = f"C{i % 10}"
                 seeds = len(run["seeds"])
                 label = f'{run["label"]} ({run["integrator"]}' + (f", {seeds} seeds)" if seeds > 1 else ")")
-                if metric == "mean_ratio":  # arithmetic mean over seeds, the range as a band
-                    xs, ys, lo, hi = mean_ratio_curve(run, x_of)
-                else:
-                    xs, ys, lo, hi = curves(run, x_of, metric)
+                # Errors: geometric mean over seeds; the mean ratio: arithmetic. The range as a band.
+                xs, ys, lo, hi = er.mean_curve(run, x_of, metric, geometric=metric != "mean_ratio")
                 if not xs:
                     continue
                 ax.plot(xs, ys, "o-", color=color, markersize=3, label=label)
@@ -110,25 +108,6 @@ def plot(results_dir, out_prefix):
              "bands: min–max over seeds. relMSE = mean (x − r)²/(r² + 0.01).",
              ha="center", va="top", fontsize=8, wrap=True)
     return er.save_figure(fig, out_prefix)
-
-
-def mean_ratio_curve(run, x_of):
-    """Mean ratio per checkpoint: x and y the means over seeds, with the min and max."""
-    by_index = {}
-    for seq in run["seeds"].values():
-        for r in seq:
-            by_index.setdefault(int(r["checkpoint"]), []).append(r)
-    xs, ys, lo, hi = [], [], [], []
-    for _, group in sorted(by_index.items()):
-        x = sum(x_of(r) for r in group) / len(group)
-        if x <= 0:
-            continue
-        values = [float(r["mean_ratio"]) for r in group]
-        xs.append(x)
-        ys.append(sum(values) / len(values))
-        lo.append(min(values))
-        hi.append(max(values))
-    return xs, ys, lo, hi
 
 
 def main(argv=None):

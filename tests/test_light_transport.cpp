@@ -219,34 +219,38 @@ TEST_CASE("photons alone: every light's direct photons reproduce its closed-form
   }
 }
 
+// Renders the floor under `c` at W×W with seeds 1 and 2 (render(scene, seed)) and checks the
+// two images against ρ/π·E per pixel (pixelAgreement).
+template <typename RenderFn>
+void checkPerPixel(const LightCase& c, int W, double medianMargin, RenderFn&& render) {
+  auto scene = floorScene(c);
+  ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
+  ImageRGB a = render(*scene, uint64_t(1)), b = render(*scene, uint64_t(2));
+  PixelAgreement pa = pixelAgreement(a, b, expected);
+  INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+  CHECK(pa.medianRatio == Approx(1.0).margin(medianMargin));
+  CHECK(pa.meanRatio == Approx(1.0).margin(medianMargin));
+  CHECK(pa.p99t < 4.5);
+}
+
 TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - median and 99th percentile") {
   // PPM takes all light, direct included, from photons: 32×32 pixels, 24 passes of 100k paths,
   // initial radius 3 cm, seeds 1 and 2. Accepted: median ratio within 1 ± 0.02 (the per-pixel
   // noise is 8–15%, so its standard error over ~10³ pixels is < 0.6%), the mean ratio within
   // 1 ± 0.02, and the 99th percentile of |t| below 4.5 (3.25 for t₉; the margin covers the
   // neighbourhood's uneven noise). The directional light's bug gave a ratio of 0.126.
-  const int W = 32;
   for (const LightCase& c : lightCases()) {
     INFO(c.name);
-    auto scene = floorScene(c);
-    ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
-    ImageRGB img[2];
-    for (int i = 0; i < 2; ++i) {
-      auto ppm = makeProgressiveIntegrator("ppm");
+    checkPerPixel(c, 32, 0.02, [](const Scene& scene, uint64_t seed) {
       RenderOptions ro;
-      ro.width = ro.height = W;
-      ro.seed = uint64_t(1 + i);
+      ro.width = ro.height = 32;
+      ro.seed = seed;
       ProgressiveOptions po;
       po.passes = 24;
       po.photonsPerPass = 100000;
       po.radius = 0.03f;
-      img[i] = ppm->render(*scene, ro, po, {}, nullptr);
-    }
-    PixelAgreement pa = pixelAgreement(img[0], img[1], expected);
-    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
-    CHECK(pa.medianRatio == Approx(1.0).margin(0.02));
-    CHECK(pa.meanRatio == Approx(1.0).margin(0.02));
-    CHECK(pa.p99t < 4.5);
+      return makeProgressiveIntegrator("ppm")->render(scene, ro, po, {}, nullptr);
+    });
   }
 }
 
@@ -254,24 +258,15 @@ TEST_CASE("shadow rays alone: direct lighting of every light matches ρ/π·E pe
   // The direct integrator: one light sample per camera sample (delta lights: exact, so only
   // the pixel jitter varies; the area light: a solid-angle estimator), 32×32 pixels, 16 spp,
   // seeds 1 and 2. Same acceptance as the photons' test, with a 1% median (noise is ~3%).
-  const int W = 32;
   for (const LightCase& c : lightCases()) {
     INFO(c.name);
-    auto scene = floorScene(c);
-    ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
-    ImageRGB img[2];
-    for (int i = 0; i < 2; ++i) {
+    checkPerPixel(c, 32, 0.01, [](const Scene& scene, uint64_t seed) {
       auto direct = makeIntegrator("direct", {});
       RenderOptions ro;
-      ro.width = ro.height = W;
+      ro.width = ro.height = 32;
       ro.spp = 16;
-      ro.seed = uint64_t(1 + i);
-      img[i] = render(*scene, *direct, ro, nullptr);
-    }
-    PixelAgreement pa = pixelAgreement(img[0], img[1], expected);
-    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
-    CHECK(pa.medianRatio == Approx(1.0).margin(0.01));
-    CHECK(pa.meanRatio == Approx(1.0).margin(0.01));
-    CHECK(pa.p99t < 4.5);
+      ro.seed = seed;
+      return render(scene, *direct, ro, nullptr);
+    });
   }
 }
