@@ -228,7 +228,7 @@ int cmdCompare(const std::string& imagePath, const std::string& referencePath) {
   ImageRGB image = readImage(imagePath), reference = readImage(referencePath);
   if (imageDisplay) {
     for (ImageRGB* img : {&image, &reference})
-      for (float& v : img->data) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+      for (float& v : img->data) v = srgbDecode(v);
     std::fprintf(stderr, "compare: both images are display-referred (PNG): compared after decoding sRGB to linear; "
                          "values above 1 were clipped when they were written\n");
   }

@@ -32,6 +32,9 @@ inline float srgbTransfer(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
+// The inverse of srgbTransfer: an encoded value in [0, 1] back to linear.
+inline float srgbDecode(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
+
 // A linear value's display value in [0, 1] (non-finite values show as 0).
 inline float displayValue(float linear, const Display& d) {
   if (!std::isfinite(linear)) return 0.0f;

@@ -178,6 +178,15 @@ uint64_t spreadBits(uint64_t v) {
 // photons of each radix pass).
 std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks, const Budget* budget) {
   auto stop = [budget] { return budget && budget->expired(); };
+  // fn(j) for j in [0, n), the budget polled every 2²⁰ elements; false when it expired.
+  const size_t block = size_t(1) << 20;
+  auto inBlocks = [&](size_t n, auto&& fn) {
+    for (size_t begin = 0; begin < n; begin += block) {
+      if (stop()) return false;
+      for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j) fn(j);
+    }
+    return true;
+  };
   Bounds b;
   size_t n = 0;
   for (const auto& chunk : chunks) {
@@ -199,28 +208,17 @@ std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks, c
     }
     std::vector<Photon>().swap(chunk);  // release as we go
   }
-  const size_t block = size_t(1) << 20;
   for (int shift = 0; shift < 48; shift += 12) {
     std::vector<size_t> offset(4097, 0);
-    for (size_t begin = 0; begin < n; begin += block) {
-      if (stop()) return {};
-      for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j) ++offset[((a[j].key >> shift) & 4095) + 1];
-    }
+    if (!inBlocks(n, [&](size_t j) { ++offset[((a[j].key >> shift) & 4095) + 1]; })) return {};
     for (size_t d = 1; d < offset.size(); ++d) offset[d] += offset[d - 1];
-    for (size_t begin = 0; begin < n; begin += block) {
-      if (stop()) return {};
-      for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j)
-        tmp[offset[(a[j].key >> shift) & 4095]++] = a[j];
-    }
+    if (!inBlocks(n, [&](size_t j) { tmp[offset[(a[j].key >> shift) & 4095]++] = a[j]; })) return {};
     a.swap(tmp);
   }
   { LargeArray<Keyed>(0).swap(tmp); }
   std::vector<Photon> photons;
   photons.reserve(n);
-  for (size_t begin = 0; begin < n; begin += block) {
-    if (stop()) return {};
-    for (size_t j = begin, end = std::min(n, begin + block); j < end; ++j) photons.push_back(a[j].photon);
-  }
+  if (!inBlocks(n, [&](size_t j) { photons.push_back(a[j].photon); })) return {};
   return photons;
 }
 

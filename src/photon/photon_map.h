@@ -31,8 +31,9 @@ class PhotonMap {
   PhotonMap& operator=(PhotonMap&&) noexcept;
 
   // Takes the photons and builds the kd-tree (single-threaded, nanoflann). With a budget, the
-  // sort and the build poll it, and when it expires the map is left empty and build() returns
-  // false (within a few milliseconds: a 10M-photon build takes ~3 s).
+  // sort polls it every 2²⁰ photons and a build longer than the budget's allowed overshoot
+  // polls it too (Budget::granularity); when it expires the map is left empty and build()
+  // returns false.
   bool build(std::vector<Photon> photons, const Budget* budget = nullptr);
   // The same from the tracer's per-chunk buffers, without concatenating them first: the Morton
   // sort reads them in order and writes the map's own array once.

@@ -125,6 +125,14 @@ struct PassSetup {
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
                             bool spectral, const Budget* budget);
 
+// The camera ray of pixel (x, y) in a progressive eye pass, jittered from `rng`: y first, then x
+// (the order GCC gave these draws when they were function arguments; stated, so that images do
+// not depend on the compiler).
+inline Ray progressiveCameraRay(const Camera& camera, int x, int y, int width, int height, Rng& rng) {
+  float jy = rng.uniform(), jx = rng.uniform();
+  return camera.generateRay(x + jx, y + jy, width, height);
+}
+
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light
 // through the specular chain, so that gathers (in RGB) can use it; then the path ends.
 void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
@@ -141,11 +149,9 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, const Checkpoi
   PassInfo pi;
   uint64_t tracedPasses = 0;
   auto fill = [&](bool last) {
-    uint32_t lo = UINT32_MAX;
-    uint64_t total = 0;
-    for (uint32_t n : setup.passes) lo = std::min(lo, n), total += n;
-    pi.passes = setup.pixels ? int(lo) : 0;
-    pi.meanPasses = setup.pixels ? double(total) / setup.pixels : 0.0;
+    PixelCounts counts = summarizeCounts(setup.passes);
+    pi.passes = counts.all;
+    pi.meanPasses = counts.mean;
     pi.photons = tracedPasses * o.photonsPerPass;
     pi.seconds = budget.elapsed();
     pi.meanRadius = meanRadius();

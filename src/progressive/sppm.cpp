@@ -27,10 +27,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         if (budget.expired()) return;
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
-        // Jitter y before x, stated (as function arguments the order would be unspecified; this is
-        // the order GCC chose, so images are unchanged).
-        float jy = rng.uniform(), jx = rng.uniform();
-        Ray ray = scene.camera().generateRay(x + jx, y + jy, W, H);
+        Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
         if (o.spectral) beginPath(true, rng.uniform());
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);

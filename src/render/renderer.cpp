@@ -73,11 +73,9 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
     return image;
   };
   auto fillStats = [&](RenderStats* st, bool last) {
-    uint32_t lo = UINT32_MAX;
-    uint64_t total = 0;
-    for (uint32_t n : count) lo = std::min(lo, n), total += n;
-    st->spp = pixels ? int(lo) : 0;
-    st->meanSpp = pixels ? double(total) / pixels : 0.0;
+    PixelCounts counts = summarizeCounts(count);
+    st->spp = counts.all;
+    st->meanSpp = counts.mean;
     st->seconds = budget.elapsed();
     st->nonFiniteSamples = 0;
     for (auto n : nonFinite) st->nonFiniteSamples += n;

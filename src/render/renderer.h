@@ -4,6 +4,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "integrators/integrator.h"
 #include "render/image.h"
@@ -44,6 +45,20 @@ struct RenderStats {
   bool timeUp = false;            // stopped because the time budget was spent
   bool last = false;              // the render's final image
 };
+
+// Samples (or passes) per pixel after a render the budget may have cut mid-pass: what every
+// pixel has, and the mean.
+struct PixelCounts {
+  int all = 0;
+  double mean = 0.0;
+};
+inline PixelCounts summarizeCounts(const std::vector<uint32_t>& counts) {
+  if (counts.empty()) return {};
+  uint32_t lo = UINT32_MAX;
+  uint64_t total = 0;
+  for (uint32_t n : counts) lo = std::min(lo, n), total += n;
+  return {int(lo), double(total) / counts.size()};
+}
 
 // Width and height from the options and the camera: --width alone keeps the camera's aspect
 // ratio (square when the file gives none); neither gives 512 wide.

@@ -19,6 +19,7 @@
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
+#include "io/tonemap.h"
 #include "scene/gltf_schema.h"
 #include "spectral/spectral.h"
 
@@ -331,12 +332,8 @@ class Loader {
     image->width = im.width;
     image->height = im.height;
     image->texels.resize(size_t(im.width) * im.height);
-    auto toLinear = [](unsigned char c) {  // sRGB transfer function
-      float v = c / 255.0f;
-      return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-    };
-    for (size_t i = 0; i < image->texels.size(); ++i)
-      for (int c = 0; c < 3; ++c) image->texels[i][c] = toLinear(im.image[i * im.component + c]);
+    for (size_t i = 0; i < image->texels.size(); ++i)  // sRGB-encoded texels
+      for (int c = 0; c < 3; ++c) image->texels[i][c] = srgbDecode(im.image[i * im.component + c] / 255.0f);
     images_[src] = image;
     return image;
   }
