@@ -15,6 +15,7 @@
 #include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 
 using namespace pl;
@@ -114,45 +115,39 @@ TEST_CASE("budget: the photon integrator stops inside its photon maps or its fin
   auto scene = loadGltf(scenePath("cornell-box.gltf"));
   // 1. Final gathering: 512 gather rays per pixel at 64×64 take ~10 s per sample pass.
   {
-    IntegratorOptions io;
-    io.photons = io.causticPhotons = 20000;
-    io.finalGather = 512;
-    auto pm = makeIntegrator("photon", io);
+    auto pm = makeWith("photon", {{"photons", 20000}, {"caustic_photons", 20000}, {"final_gather", 512}});
     RenderOptions ro;
     ro.width = ro.height = 64;
     ro.spp = 0;
     ro.timeLimit = 1.0;
-    RenderStats st;
+    RenderInfo st;
     auto t0 = std::chrono::steady_clock::now();
     ImageRGB img = render(*scene, *pm, ro, &st);
     double t = secondsSince(t0);
-    INFO("render returned after " << t << " s, stats " << st.seconds << " s, mean spp " << st.meanSpp);
+    INFO("render returned after " << t << " s, stats " << st.seconds << " s, mean spp " << st.meanWork);
     CHECK(t < 1.25);
     CHECK(st.seconds >= 1.0);
     CHECK(st.seconds < 1.25);
     CHECK(st.timeUp);
     CHECK(st.spp == 0);  // not even one full pass ...
-    CHECK(st.meanSpp > 0);  // ... but some pixels have their sample
-    CHECK(st.meanSpp < 1);
+    CHECK(st.meanWork > 0);  // ... but some pixels have their sample
+    CHECK(st.meanWork < 1);
   }
   // 2. Photon tracing: 30M paths take ~10 s to trace and build.
   {
-    IntegratorOptions io;
-    io.photons = 30000000;
-    io.causticPhotons = 0;
-    auto pm = makeIntegrator("photon", io);
+    auto pm = makeWith("photon", {{"photons", 30000000}, {"caustic_photons", 0}});
     RenderOptions ro;
     ro.width = ro.height = 16;
     ro.spp = 0;
     ro.timeLimit = 1.0;
-    RenderStats st;
+    RenderInfo st;
     auto t0 = std::chrono::steady_clock::now();
     render(*scene, *pm, ro, &st);
     double t = secondsSince(t0);
     INFO("render returned after " << t << " s");
     CHECK(t < 1.25);
     CHECK(st.timeUp);
-    CHECK(st.meanSpp == 0);
+    CHECK(st.meanWork == 0);
     REQUIRE(pm->warnings().size() == 1);
     CHECK(pm->warnings()[0].find("time budget ran out while the photon maps were traced") != std::string::npos);
   }
@@ -174,25 +169,24 @@ TEST_CASE("budget: a pass cut short leaves every pixel it reached exactly its n 
     const bool progressive = std::string(name) != "path";
     RenderOptions ro;
     ro.width = ro.height = 96;
-    ProgressiveOptions po;
-    po.photonsPerPass = 20000;
     auto renderWith = [&](double limit, int work, double* mean) {
       if (progressive) {
-        ProgressiveOptions o = po;
-        o.passes = work;
-        o.timeLimit = limit;
-        PassInfo info;
-        ImageRGB img = makeProgressiveIntegrator(name)->render(*scene, ro, o, {}, &info);
-        *mean = info.meanPasses;
+        RenderOptions r = ro;
+        r.timeLimit = limit;
+        RenderInfo info;
+        std::map<std::string, double> p = {{"photons_per_pass", 20000}};
+        if (work != INT32_MAX) p["passes"] = work;  // else unset: until the budget ends
+        ImageRGB img = makeWith(name, p)->render(*scene, r, &info);
+        *mean = info.meanWork;
         return img;
       }
       RenderOptions r = ro;
       r.spp = work;
       r.timeLimit = limit;
-      RenderStats st;
+      RenderInfo st;
       auto path = makeIntegrator("path", {});
       ImageRGB img = render(*scene, *path, r, &st);
-      *mean = st.meanSpp;
+      *mean = st.meanWork;
       return img;
     };
     bool cut = false;

@@ -83,15 +83,21 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   expectCleanFailure(photon + "--final-gather -1", out, "--final-gather");
   expectCleanFailure(photon + "--aov depth", out, "--aov");
   expectCleanFailure("render " + scene + " -o " + out + " --aov photons", out, "--aov");
+  // An option the chosen integrator does not take is refused (as in an experiment's TOML), not ignored.
+  expectCleanFailure("render " + scene + " -o " + out + " --alpha 0.5", out, "--alpha: is not a parameter of integrator path");
+  expectCleanFailure("render " + scene + " -o " + out + " --integrator sppm --spp 4", out,
+                     "--spp: is not a parameter of integrator sppm");
+  expectCleanFailure("render " + scene + " -o " + out + " --integrator sppm --alpha 1.5", out,
+                     "--alpha: must be in (0, 1], got 1.5");
   // Values that used to fall back silently to a default, or wrapped around.
   expectCleanFailure("render " + scene + " -o " + out + " --width 0", out, "--width: must be at least 1 pixel, got 0");
   expectCleanFailure("render " + scene + " -o " + out + " --height 0", out, "--height: must be at least 1 pixel");
   expectCleanFailure("render " + scene + " -o " + out + " --time 0", out, "--time: must be a number of seconds above 0");
   expectCleanFailure("render " + scene + " -o " + out + " --seed -1", out, "--seed: must be 0 or more, got -1");
-  // An unknown integrator lists all seven.
+  // An unknown integrator lists them all (sorted by name: the registry's order).
   Result u = run("render " + scene + " -o " + out + " --integrator bdpt");
   CHECK(u.code == 1);
-  CHECK_THAT(u.err, Contains("unknown integrator 'bdpt' (direct, whitted, path, photon, ppm, sppm, pppm)"));
+  CHECK_THAT(u.err, Contains("unknown integrator 'bdpt' (direct, path, photon, ppm, pppm, sppm, whitted)"));
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));
@@ -203,10 +209,13 @@ TEST_CASE("cli: --aov nan writes the non-finite-sample image with its metadata -
 TEST_CASE("cli: --spectral renders with every integrator family and says so in the metadata") {
   GltfFixture f;
   std::string scene = f.write("cli-spectral.gltf"), dir = GltfFixture::dir();
-  for (const char* integrator : {"path", "photon", "sppm"}) {
+  // Each with its own options: the CLI refuses an option the integrator does not take.
+  const std::map<std::string, std::string> options = {{"path", "--spp 2"},
+                                                      {"photon", "--spp 2 --photons 2000 --caustic-photons 0"},
+                                                      {"sppm", "--passes 2 --photons-per-pass 2000"}};
+  for (auto& [integrator, args] : options) {
     std::string out = dir + "/spectral-" + integrator + ".exr";
-    Result r = run("render " + scene + " --spectral --integrator " + integrator +
-                   " --width 8 --spp 2 --passes 2 --photons 2000 --caustic-photons 0 --photons-per-pass 2000 -q -o " + out);
+    Result r = run("render " + scene + " --spectral --integrator " + integrator + " --width 8 " + args + " -q -o " + out);
     INFO(integrator << "\n" << r.err);
     REQUIRE(r.code == 0);
     Result m = run("info " + out);

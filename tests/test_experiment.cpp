@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "experiment/config.h"
+#include "photon/kernels.h"
+#include "progressive/progressive.h"
 #include "gltf_fixture.h"
 
 using namespace pl;
@@ -74,21 +76,21 @@ integrator = "path"
   REQUIRE(c.runs.size() == 3);
   const auto& sppm = c.runs[0].settings;
   CHECK(sppm.integrator == "sppm");
-  CHECK(sppm.progressive.timeLimit == 2.5);
-  CHECK(sppm.progressive.passes == INT32_MAX);  // time alone: as many passes as fit
-  CHECK(sppm.progressive.alpha == 0.5);
-  CHECK(sppm.progressive.photonsPerPass == 1000);
+  CHECK(sppm.image.timeLimit == 2.5);
+  CHECK(progressiveOptions(sppm.params).passes == INT32_MAX);  // time alone: as many passes as fit
+  CHECK(progressiveOptions(sppm.params).alpha == 0.5);
+  CHECK(progressiveOptions(sppm.params).photonsPerPass == 1000);
   CHECK(c.runs[0].seeds == std::vector<uint64_t>{3, 4});
   const auto& photon = c.runs[1].settings;
-  CHECK(photon.image.spp == 4);
-  CHECK(photon.options.density.k == 20);
-  CHECK(photon.options.density.kernel == Kernel::Cone);
-  CHECK(photon.options.density.radius == Approx(0.05f));
-  CHECK(photon.options.finalGather == 0);
+  CHECK(photon.renderOptions().spp == 4);
+  CHECK(photon.params.integer("k") == 20);
+  CHECK(parseKernel(photon.params.choice("kernel")) == Kernel::Cone);
+  CHECK(photon.params.real("radius") == Approx(0.05f));
+  CHECK(photon.params.integer("final_gather") == 0);
   CHECK(c.runs[1].label == "photon 2");  // default label
   CHECK(c.runs[1].seeds == std::vector<uint64_t>{1});
-  CHECK(c.runs[2].settings.image.spp == RenderOptions().spp);  // no budget: the CLI's default
-  CHECK(c.reference.settings.image.spp == 64);
+  CHECK(c.runs[2].settings.renderOptions().spp == RenderOptions().spp);  // no budget: the CLI's default
+  CHECK(c.reference.settings.renderOptions().spp == 64);
   CHECK(c.reference.settings.image.width == 32);
 }
 

@@ -15,6 +15,7 @@
 #include "photon/photon_tracer.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 
 using namespace pl;
@@ -245,11 +246,7 @@ TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - m
       RenderOptions ro;
       ro.width = ro.height = 32;
       ro.seed = seed;
-      ProgressiveOptions po;
-      po.passes = 24;
-      po.photonsPerPass = 100000;
-      po.radius = 0.03f;
-      return makeProgressiveIntegrator("ppm")->render(scene, ro, po, {}, nullptr);
+      return makeWith("ppm", {{"passes", 24}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(scene, ro, nullptr);
     });
   }
 }

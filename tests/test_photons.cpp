@@ -6,6 +6,7 @@
 #include "bsdfs/mirror.h"
 #include "core/sampling.h"
 #include "integrators/photon.h"
+#include "integrators/registry.h"
 #include "lights/point_light.h"
 #include "lights/warn_spotlight.h"
 #include "render/renderer.h"
@@ -335,7 +336,7 @@ TEST_CASE("mirror caustic: the floor under a point light receives E = I/h² + R�
 TEST_CASE("photon mapping in the closed furnace: L = Le / (1 − ρ) with and without final gathering") {
   auto scene = loadGltf(scenePath("furnace.gltf"));
   for (int fg : {0, 8}) {
-    IntegratorOptions io;
+    PhotonOptions io;
     io.photons = 400000;
     io.causticPhotons = 0;
     io.finalGather = fg;
@@ -356,7 +357,7 @@ TEST_CASE("Cornell box: photon mapping with final gathering agrees with the path
   ro.spp = 2048;
   auto path = makeIntegrator("path", {});
   ImageRGB reference = render(*scene, *path, ro, nullptr);
-  IntegratorOptions io;
+  PhotonOptions io;
   io.photons = 500000;
   io.finalGather = 64;
   PhotonIntegrator pm(io);
@@ -398,7 +399,7 @@ TEST_CASE("photon mapping: no diffuse surface or no power renders zeros with a w
   scene.addLight(std::make_unique<PointLight>(Vec3(0), Spectrum(1.0f)));
   scene.setCamera(Camera{});
   scene.commit();
-  IntegratorOptions io;
+  PhotonOptions io;
   io.photons = 20000;
   io.causticPhotons = 20000;
   PhotonIntegrator pm(io);
@@ -420,7 +421,7 @@ TEST_CASE("photon mapping: no diffuse surface or no power renders zeros with a w
 
 TEST_CASE("photon mapping is bit-identical whatever the thread count") {
   auto scene = loadGltf(scenePath("cornell-spheres.gltf"));
-  IntegratorOptions io;
+  PhotonOptions io;
   io.photons = 50000;
   io.causticPhotons = 50000;
   io.finalGather = 4;
@@ -438,7 +439,7 @@ TEST_CASE("photon mapping is bit-identical whatever the thread count") {
 
 TEST_CASE("debug images: photon count and gather radius") {
   auto scene = loadGltf(scenePath("cornell-box.gltf"));
-  IntegratorOptions io;
+  PhotonOptions io;
   io.photons = 100000;
   io.density.k = 20;
   io.aov = "photons";

@@ -4,6 +4,7 @@
 
 #include "progressive/progressive.h"
 #include "scene/gltf_loader.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 
 using namespace pl;
@@ -14,17 +15,16 @@ namespace {
 const char* kAll[] = {"ppm", "sppm", "pppm"};
 
 ImageRGB renderProgressive(const std::string& name, const Scene& scene, int W, int passes, uint64_t photons,
-                           float radius, uint64_t seed = 1, int threads = 0, const CheckpointFn& cp = {}) {
-  auto integrator = makeProgressiveIntegrator(name);
+                           float radius, uint64_t seed = 1, int threads = 0,
+                           const std::function<void(const ImageRGB&, const RenderInfo&)>& cp = {}) {
   RenderOptions ro;
   ro.width = ro.height = W;
   ro.seed = seed;
   ro.threads = threads;
-  ProgressiveOptions o;
-  o.passes = passes;
-  o.photonsPerPass = photons;
-  o.radius = radius;
-  return integrator->render(scene, ro, o, cp, nullptr);
+  ro.checkpoint = cp;
+  std::map<std::string, double> p = {{"passes", passes}, {"photons_per_pass", double(photons)}};
+  if (radius > 0) p["radius"] = radius;  // else the scene's default radius
+  return makeWith(name, p)->render(scene, ro, nullptr);
 }
 
 // Least-squares slope of log y against log x.
@@ -154,7 +154,7 @@ TEST_CASE("convergence rate: MSE falls as passes^(−2/3) for α = 2/3 - the pat
     for (uint64_t seed = 1; seed <= 3; ++seed) {
       int k = 0;
       renderProgressive(name, *scene, W, 64, 20000, 0.05f, seed, 0,
-                        [&](const ImageRGB& img, const PassInfo&) { mse[k++] += relativeMSE(img, ref) / 3; });
+                        [&](const ImageRGB& img, const RenderInfo&) { mse[k++] += relativeMSE(img, ref) / 3; });
     }
     std::vector<double> x = {4, 8, 16, 32, 64}, y(mse.begin() + 2, mse.end());
     double slope = logLogSlope(x, y);
@@ -200,7 +200,7 @@ TEST_CASE("checkpoints come after passes 1 - 2 - 4 - 8 and the last - with growi
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
   std::vector<int> seen;
   std::vector<double> radii;
-  renderProgressive("sppm", *scene, 8, 10, 1000, 0.05f, 1, 0, [&](const ImageRGB&, const PassInfo& info) {
+  renderProgressive("sppm", *scene, 8, 10, 1000, 0.05f, 1, 0, [&](const ImageRGB&, const RenderInfo& info) {
     seen.push_back(info.passes);
     radii.push_back(info.meanRadius);
     CHECK(info.photons == uint64_t(info.passes) * 1000);

@@ -8,6 +8,7 @@
 #include "lights/warn_spotlight.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 
 using namespace pl;
@@ -57,9 +58,7 @@ ImageRGB renderWith(const Scene& scene, const std::string& integrator, int W, in
   o.width = o.height = W;
   o.spp = spp;
   o.threads = threads;
-  IntegratorOptions io;
-  io.maxDepth = maxDepth;
-  auto in = makeIntegrator(integrator, io);
+  auto in = test::makeWith(integrator, {{"max_depth", maxDepth}});
   return render(scene, *in, o, nullptr);
 }
 

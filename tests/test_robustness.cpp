@@ -14,6 +14,7 @@
 #include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 
 using namespace pl;
@@ -35,10 +36,9 @@ std::string loadAndRender(const std::string& path) {
   RenderOptions o;
   o.width = o.height = 4;
   o.spp = 1;
-  IntegratorOptions io;
-  io.photons = io.causticPhotons = 64;
+  const std::map<std::string, double> io = {{"photons", 64}, {"caustic_photons", 64}};
   for (const char* name : {"path", "photon"}) {
-    auto integrator = makeIntegrator(name, io);
+    auto integrator = makeWith(name, io);
     ImageRGB image = render(*scene, *integrator, o, nullptr);
     for (float v : image.data) REQUIRE(std::isfinite(v));
   }
@@ -142,8 +142,7 @@ TEST_CASE("robustness: photon counts and resolutions beyond the available memory
   RenderOptions o;
   o.width = 20000;
   o.height = 20000;  // 400 M pixels × 40 bytes
-  IntegratorOptions io;
-  auto path = makeIntegrator("path", io);
+  auto path = makeIntegrator("path");
   CHECK_THROWS_WITH(render(*scene, *path, o, nullptr), Contains("20000x20000 image: needs"));
   ProgressiveOptions po;
   CHECK_THROWS_WITH(PassSetup(*scene, o, po), Contains("20000x20000 progressive image: needs"));
@@ -168,11 +167,10 @@ TEST_CASE("robustness: degenerate triangles - coincident vertices - a zero-area 
   RenderOptions o;
   o.width = o.height = 16;
   o.spp = 4;
-  IntegratorOptions io;
-  io.photons = io.causticPhotons = 2000;
+  const std::map<std::string, double> io = {{"photons", 2000}, {"caustic_photons", 2000}};
   for (const char* name : {"direct", "path", "photon"}) {
-    auto integrator = makeIntegrator(name, io);
-    RenderStats stats;
+    auto integrator = makeWith(name, io);
+    RenderInfo stats;
     ImageRGB image = render(scene, *integrator, o, &stats);
     INFO(name);
     CHECK(stats.nonFiniteSamples == 0);
@@ -199,15 +197,14 @@ TEST_CASE("robustness: a NaN-producing material is discarded - counted - and sho
   o.width = W;
   o.height = H;
   o.spp = 2;
-  IntegratorOptions io;
-  auto path = makeIntegrator("path", io);
-  RenderStats stats;
+  auto path = makeIntegrator("path");
+  RenderInfo stats;
   ImageRGB image = render(scene, *path, o, &stats);
   for (float v : image.data) REQUIRE(std::isfinite(v));
   CHECK(stats.nonFiniteSamples > 0);
 
   o.nanAov = true;
-  RenderStats aovStats;
+  RenderInfo aovStats;
   ImageRGB nan = render(scene, *path, o, &aovStats);
   CHECK(aovStats.nonFiniteSamples == stats.nonFiniteSamples);
   double total = 0;
@@ -222,18 +219,14 @@ TEST_CASE("robustness: a NaN-producing material is discarded - counted - and sho
 
   // Photons and progressive estimates never carry the NaN either.
   for (const char* name : {"photon"}) {
-    io.photons = io.causticPhotons = 5000;
-    auto pm = makeIntegrator(name, io);
+    auto pm = makeWith(name, {{"photons", 5000}, {"caustic_photons", 5000}});
     o.nanAov = false;
     ImageRGB img = render(scene, *pm, o, nullptr);
     for (float v : img.data) REQUIRE(std::isfinite(v));
   }
-  ProgressiveOptions po;
-  po.passes = 2;
-  po.photonsPerPass = 5000;
   for (const char* name : {"ppm", "sppm", "pppm"}) {
-    PassInfo info;
-    ImageRGB img = makeProgressiveIntegrator(name)->render(scene, o, po, nullptr, &info);
+    RenderInfo info;
+    ImageRGB img = makeWith(name, {{"passes", 2}, {"photons_per_pass", 5000}})->render(scene, o, &info);
     INFO(name);
     for (float v : img.data) REQUIRE(std::isfinite(v));
   }

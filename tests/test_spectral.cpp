@@ -10,6 +10,7 @@
 #include "render/renderer.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_loader.h"
+#include "integrator_helpers.h"
 #include "scene_helpers.h"
 #include "spectral/spectral.h"
 
@@ -220,8 +221,6 @@ TEST_CASE("spectral: spectral and RGB mode agree on grey scenes - point light ov
   o.width = o.height = W;
   o.spp = 256;
   o.spectral = true;
-  IntegratorOptions io;
-  io.spectral = true;
   ImageRGB expected = expectedFloorImage(scene, W, W, [&](const Vec3& x) {
     Vec3 d = Vec3(0, h, 0) - x;
     float r2 = glm::dot(d, d);
@@ -238,19 +237,15 @@ TEST_CASE("spectral: spectral and RGB mode agree on grey scenes - point light ov
     }
   };
   for (const char* name : {"direct", "path"}) {
-    auto integrator = makeIntegrator(name, io);
+    auto integrator = makeWith(name, {}, o);
     ImageRGB img = render(scene, *integrator, o, nullptr);
     checkGrey(name, img);
   }
   // The progressive methods: the same (the floor's photons are direct ones, which SPPM and PPPM
   // leave to shadow rays), with one wavelength triple per pixel and pass.
-  ProgressiveOptions po;
-  po.passes = 256;
-  po.photonsPerPass = 1000;
-  po.spectral = true;
   for (const char* name : {"sppm", "pppm"}) {
-    PassInfo info;
-    checkGrey(name, makeProgressiveIntegrator(name)->render(scene, o, po, nullptr, &info));
+    RenderInfo info;
+    checkGrey(name, makeWith(name, {{"passes", 256}, {"photons_per_pass", 1000}}, o)->render(scene, o, &info));
   }
 
   // The closed furnace: L = Le/(1 − ρ) = 2, with the path tracer and with photon mapping.
@@ -273,11 +268,8 @@ TEST_CASE("spectral: spectral and RGB mode agree on grey scenes - point light ov
   furnace.commit();
   o.width = o.height = 16;
   o.spp = 16;
-  io.photons = 200000;
-  io.causticPhotons = 0;
-  io.finalGather = 16;
   for (const char* name : {"path", "photon"}) {
-    auto integrator = makeIntegrator(name, io);
+    auto integrator = makeWith(name, {{"photons", 200000}, {"caustic_photons", 0}, {"final_gather", 16}}, o);
     ImageRGB img = render(furnace, *integrator, o, nullptr);
     double mean = 0;
     for (float v : img.data) mean += v;

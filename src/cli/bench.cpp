@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
 #include "spectral/spectral.h"
+#include "integrators/registry.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -63,16 +64,14 @@ struct PathRate {
 };
 
 PathRate pathTracerRate(const Scene& scene, int threads, int spp, bool spectral = false) {
-  IntegratorOptions io;
-  io.spectral = spectral;
-  auto integrator = makeIntegrator("path", io);
   RenderOptions o;
   o.width = o.height = 256;
   o.spp = spp;
   o.threads = threads;
   o.spectral = spectral;
+  auto integrator = makeIntegrator("path", o);
   uint64_t rays0 = Scene::raysTraced();
-  RenderStats stats;
+  RenderInfo stats;
   render(scene, *integrator, o, &stats);
   uint64_t rays = Scene::raysTraced() - rays0;
   return {256.0 * 256.0 * stats.spp / stats.seconds, rays / stats.seconds};
@@ -220,15 +219,15 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   // Progressive photon mapping at 512² with 1 million photon paths per pass (all threads).
   std::printf("\n| progressive, 512x512, 1M photons/pass, %d threads | passes/s | M photons/s |\n|---|---|---|\n", all);
   for (const char* name : {"ppm", "sppm", "pppm"}) {
-    auto integrator = makeProgressiveIntegrator(name);
     RenderOptions ro;
     ro.width = ro.height = 512;
     ro.threads = all;
-    ProgressiveOptions po;
-    po.passes = 3;
-    po.photonsPerPass = 1000000;
-    PassInfo info;
-    integrator->render(*scene, ro, po, {}, &info);
+    ParamSet params = integratorEntry(name).defaults();
+    params.setNumber("passes", 3);
+    params.setNumber("photons_per_pass", 1000000);
+    auto integrator = makeIntegrator(name, params, ro);
+    RenderInfo info;
+    integrator->render(*scene, ro, &info);
     std::printf("| %s | %.3f | %.2f |\n", name, info.passes / info.seconds, info.photons / info.seconds / 1e6);
   }
   return 0;

@@ -16,10 +16,8 @@
 
 #include "core/interrupt.h"
 #include "experiment/experiment.h"
-#include "integrators/photon.h"
 #include "io/image_io.h"
 #include "io/metrics.h"
-#include "progressive/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 
@@ -77,40 +75,26 @@ int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image,
   return 130;
 }
 
-// Any integrator: renderRun() dispatches between the per-sample and the progressive ones, and
-// runMetadata() names what was rendered, as `photonlab run` does. With `checkpoints`
-// (progressive only), OUT.pass-NNNN.ext after passes 1, 2, 4, ... and the last.
+// Any integrator, through renderRun() and runMetadata(), as `photonlab run` does. With
+// `checkpoints` (integrators counted in passes), OUT.pass-NNNN.ext after passes 1, 2, 4, ... and
+// the last.
 int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, RunSettings s, bool checkpoints,
               bool quiet, const Display& display) {
   for (auto& o : outputs) checkOutputPath(o);
-  if (!isProgressive(s.integrator)) makeIntegrator(s.integrator, s.options);  // validates the name first
   auto scene = loadScene(scenePath);
   // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
   // the tree build, and the image so far is written (before, it ended the process at once).
   setInterruptCooperative(true);
   resolveResolution(scene->camera(), s.image);
-  const bool progressive = isProgressive(s.integrator);
-  // The estimate's radius, resolved before rendering so that the metadata records it, and said
-  // in the summary line (before rendering too on a terminal: a log gets only the summary, or
-  // one error line).
+  const bool progressive = s.budgetUnit() == "passes";
+  // Scene-derived defaults (the estimate's radius), resolved before rendering so that the
+  // metadata records them, and said in the summary line (before rendering too on a terminal: a
+  // log gets only the summary, or one error line).
   std::string radius;
-  if (progressive && s.progressive.radius <= 0) {
-    DefaultRadius r = defaultRadius(*scene, s.image.width, s.image.height);
-    s.progressive.radius = r.radius;
-    radius = "initial radius " + formatNumber(r.radius) + " m (default: " + formatNumber(DefaultRadius::kFootprints) +
-             " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)";
-  } else if (progressive) {
-    radius = "initial radius " + formatNumber(s.progressive.radius) + " m";
-  }
-  if (s.integrator == "photon") {
-    s.options.density = PhotonIntegrator::resolveDensity(*scene, s.options.density);
-    const DensityEstimation& d = s.options.density;
-    radius = d.radius > 0 ? "fixed radius " + formatNumber(d.radius) + " m"
-                          : std::to_string(d.k) + " nearest photons within at most " + formatNumber(d.maxRadius) + " m";
-  }
+  if (s.entry().resolve) radius = s.entry().resolve(*scene, s.image.width, s.image.height, s.params);
   if (!quiet && isatty(STDERR_FILENO)) {  // beside the progress bar
-    std::string work = progressive ? (s.progressive.passes == INT32_MAX ? "" : std::to_string(s.progressive.passes) + " passes")
-                                   : (s.image.spp > 0 ? std::to_string(s.image.spp) + " spp" : "");
+    const std::string unit = s.budgetUnit();
+    std::string work = s.params.isSet(unit) ? std::to_string(s.params.integer(unit)) + " " + unit : "";
     if (s.image.timeLimit > 0)
       work = work.empty() ? "for " + formatNumber(s.image.timeLimit) + " s"
                           : work + " or " + formatNumber(s.image.timeLimit) + " s, whichever ends first";
@@ -257,56 +241,55 @@ int main(int argc, char** argv) {
   std::string scenePath, integratorName = "path";
   std::vector<std::string> outputs;
   RenderOptions options;
-  IntegratorOptions integratorOptions;
   bool quiet = false;
   auto* render = app.add_subcommand("render", "Render a glTF scene to EXR (linear) and/or PNG (sRGB)");
   render->add_option("scene", scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
   render->add_option("-o,--output", outputs, "Output image(s): .exr or .png; repeat for both")->required();
-  render->add_option("--integrator", integratorName, "One of: " + integratorList())->capture_default_str();
+  render->add_option("--integrator", integratorName, "One of: " + integratorList() + " (photonlab integrators: what each does and takes)")
+      ->capture_default_str();
   auto* widthOpt = render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
   auto* heightOpt = render->add_option("--height", options.height, "Image height in pixels");
-  auto* sppOpt = render->add_option("--spp", options.spp, "Samples per pixel")->capture_default_str();
   auto* timeOpt = render->add_option("--time", options.timeLimit,
                                      "Time budget in seconds: the render stops when it is spent, wherever it is");
   int64_t seed = 1;
   render->add_option("--seed", seed, "Random seed, 0 or more (experiments' references use -1)")->capture_default_str();
   render->add_option("--threads", options.threads, "Worker threads (0 = all cores)")->capture_default_str();
-  render->add_option("--max-depth", integratorOptions.maxDepth, "Maximum number of bounces")->capture_default_str();
   render->add_flag("-q,--quiet", quiet, "No summary line");
   render->add_flag("--spectral", options.spectral,
                    "Spectral rendering: paths carry wavelengths, the film integrates the CIE 1931 curves");
-  std::string kernelName = "epanechnikov";
-  render->add_option("--photons", integratorOptions.photons, "Photon mapping: emitted paths for the global map")
-      ->capture_default_str();
-  render->add_option("--caustic-photons", integratorOptions.causticPhotons,
-                     "Photon mapping: emitted paths for the caustic map (0: caustics from the global map)")
-      ->capture_default_str();
-  render->add_option("--k", integratorOptions.density.k, "Photon mapping: k nearest photons per estimate")
-      ->capture_default_str();
-  render->add_option("--radius", integratorOptions.density.radius, "Photon mapping: fixed gather radius (m) instead of k-NN");
-  render->add_option("--max-radius", integratorOptions.density.maxRadius, "Photon mapping: cap on the k-NN radius (m)");
-  render->add_option("--kernel", kernelName, "uniform | cone | epanechnikov | silverman")->capture_default_str();
-  render->add_option("--final-gather", integratorOptions.finalGather,
-                     "Photon mapping: gather rays per diffuse hit; 0 = direct visualisation of the global map")
-      ->capture_default_str();
-  render->add_option("--aov", integratorOptions.aov,
+  // One flag per declared integrator parameter (integrators/registry.h), read as text and
+  // validated by the chosen integrator's declaration: the same words as an experiment's TOML.
+  std::map<std::string, std::string> paramText;
+  std::map<std::string, CLI::Option*> paramOpts;
+  for (const IntegratorEntry* e : integrators())
+    for (const ParamSpec& p : e->params) {
+      if (paramOpts.count(p.name) || p.name == "aov") continue;
+      std::string help;
+      for (const IntegratorEntry* f : integrators())
+        for (const ParamSpec& q : f->params)
+          if (q.name == p.name && help.find(q.doc) == std::string::npos) {
+            help += (help.empty() ? "" : "; ") + q.doc + " (" + (q.defaultValue.empty() ? q.defaultDoc : q.defaultValue) + ")";
+          }
+      help += " [" + integratorsTaking(p.name) + "]";
+      paramOpts[p.name] = render->add_option(p.flag(), paramText[p.name], help);
+    }
+  std::string aov;
+  render->add_option("--aov", aov,
                      "Debug image instead of radiance: nan (fraction of discarded non-finite samples); "
-                     "photons | radius (--integrator photon)");
+                     "photons | radius [" + integratorsTaking("aov") + "]");
   Display display;
   std::string toneCurve = "clamp";
   render->add_option("--exposure", display.exposure, "PNG only: exposure in EV (linear values times 2^EV); EXR stays linear")
       ->capture_default_str();
   render->add_option("--tonemap", toneCurve, "PNG only: clamp | aces (a filmic curve that rolls highlights off)")
       ->capture_default_str();
-  ProgressiveOptions progressive;
   bool checkpoints = false;
-  render->add_option("--passes", progressive.passes, "ppm/sppm/pppm: number of passes")->capture_default_str();
-  render->add_option("--photons-per-pass", progressive.photonsPerPass, "ppm/sppm/pppm: photon paths emitted per pass")
-      ->capture_default_str();
-  render->add_option("--alpha", progressive.alpha, "ppm/sppm/pppm: fraction of new photons kept (radius reduction)")
-      ->capture_default_str();
   render->add_flag("--checkpoints", checkpoints,
-                   "ppm/sppm/pppm: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
+                   "Integrators counted in passes: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
+
+  auto* integratorsCmd = app.add_subcommand("integrators", "The integrators and their parameters (--markdown: README's tables)");
+  bool markdown = false;
+  integratorsCmd->add_flag("--markdown", markdown, "Markdown tables, as README's \"Integrators and their parameters\"");
 
   auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds; "
                                           "or an image's metadata as JSON");
@@ -358,51 +341,57 @@ int main(int argc, char** argv) {
       if (widthOpt->count() && options.width < 1) throw Error("--width: must be at least 1 pixel, got " + std::to_string(options.width));
       if (heightOpt->count() && options.height < 1)
         throw Error("--height: must be at least 1 pixel, got " + std::to_string(options.height));
-      if (options.spp < 1) throw Error("--spp: must be at least 1");
       if (timeOpt->count() && (!(options.timeLimit > 0) || !std::isfinite(options.timeLimit)))
         throw Error("--time: must be a number of seconds above 0, got " + formatNumber(options.timeLimit));
       if (options.threads < 0) throw Error("--threads: must be ≥ 0");
       if (seed < 0) throw Error("--seed: must be 0 or more, got " + std::to_string(seed));
       options.seed = uint64_t(seed);
-      if (integratorOptions.maxDepth < 0) throw Error("--max-depth: must be ≥ 0");
-      integratorOptions.density.kernel = parseKernel(kernelName);
-      if (integratorOptions.density.k < 1) throw Error("--k: must be at least 1");
-      if (!(integratorOptions.density.radius >= 0) || !std::isfinite(integratorOptions.density.radius))
-        throw Error("--radius: must be a positive length");
-      if (!(integratorOptions.density.maxRadius >= 0) || !std::isfinite(integratorOptions.density.maxRadius))
-        throw Error("--max-radius: must be a positive length");
-      if (integratorOptions.finalGather < 0) throw Error("--final-gather: must be ≥ 0");
-      if (!integratorOptions.aov.empty() && integratorOptions.aov != "photons" && integratorOptions.aov != "radius" &&
-          integratorOptions.aov != "nan")
-        throw Error("--aov: must be nan, photons or radius");
-      if (integratorOptions.aov == "nan") {
-        if (isProgressive(integratorName)) throw Error("--aov nan: only with direct, whitted, path or photon");
+      if (!findIntegrator(integratorName))
+        throw Error("--integrator: unknown integrator '" + integratorName + "' (" + integratorList() + ")");
+      RunSettings settings = RunSettings::of(integratorName);
+      const IntegratorEntry& entry = settings.entry();
+      auto takes = [&] {
+        std::string s;
+        for (auto& p : entry.params) s += (s.empty() ? "" : ", ") + p.flag();
+        return s;
+      };
+      auto setParam = [&](const std::string& name, const std::string& flag, const std::string& text) {
+        if (!settings.params.has(name))
+          throw Error(flag + ": is not a parameter of integrator " + integratorName + " (it takes: " + takes() + ")");
+        try {
+          settings.params.setText(name, text);
+        } catch (const Error& e) {
+          throw Error(flag + ": " + e.what());
+        }
+      };
+      bool budgetGiven = false;
+      for (auto& [name, opt] : paramOpts)
+        if (opt->count()) {
+          setParam(name, opt->get_name(), paramText[name]);
+          budgetGiven = budgetGiven || (entry.budgetParam() && entry.budgetParam()->name == name);
+        }
+      if (aov == "nan") {
+        // Counted per pixel sample: the camera-side integrators' loop (renderPixels).
+        std::string pixel;
+        for (const IntegratorEntry* e : integrators())
+          if (dynamic_cast<PixelIntegrator*>(e->make(e->defaults(), options).get())) pixel += (pixel.empty() ? "" : ", ") + e->name;
+        if (!dynamic_cast<PixelIntegrator*>(entry.make(settings.params, options).get()))
+          throw Error("--aov nan: only with " + pixel);
         options.nanAov = true;
-        integratorOptions.aov.clear();
+      } else if (!aov.empty()) {
+        setParam("aov", "--aov", aov);
       }
-      if (!(progressive.alpha > 0 && progressive.alpha <= 1)) throw Error("--alpha: must be in (0, 1]");
-      if (progressive.passes < 1) throw Error("--passes: must be at least 1");
-      if (progressive.photonsPerPass < 1 || progressive.photonsPerPass >= (uint64_t(1) << 32))
-        throw Error("--photons-per-pass: must be a count from 1 to 4294967295");
-      if (checkpoints && !isProgressive(integratorName)) throw Error("--checkpoints: only with ppm, sppm or pppm");
-      if (!integratorOptions.aov.empty() && integratorName != "photon")
-        throw Error("--aov: only with --integrator photon");
-      const uint64_t maxPaths = uint64_t(1) << 32;  // photon indices are 32-bit in the kd-tree
-      if (integratorOptions.photons >= maxPaths || integratorOptions.causticPhotons >= maxPaths)
-        throw Error("--photons/--caustic-photons: must be a count from 0 to 4294967295");
-      if (options.timeLimit > 0 && sppOpt->count() == 0) options.spp = 0;  // --time alone: unlimited samples
+      const bool passes = settings.budgetUnit() == "passes";
+      if (checkpoints && !passes) {
+        std::string counted;
+        for (const IntegratorEntry* e : integrators())
+          if (e->budgetParam() && e->budgetParam()->name == "passes") counted += (counted.empty() ? "" : ", ") + e->name;
+        throw Error("--checkpoints: only with " + counted);
+      }
+      // --time alone: as many samples or passes as fit.
+      if (options.timeLimit > 0 && !budgetGiven && entry.budgetParam()) settings.params.unset(entry.budgetParam()->name);
       options.progress = !quiet;
-      RunSettings settings;
-      settings.integrator = integratorName;
       settings.image = options;
-      settings.options = integratorOptions;
-      settings.options.spectral = options.spectral;
-      settings.progressive = progressive;
-      settings.progressive.spectral = options.spectral;
-      settings.progressive.radius = integratorOptions.density.radius;
-      settings.progressive.timeLimit = options.timeLimit;
-      settings.progressive.maxDepth = integratorOptions.maxDepth;
-      if (options.timeLimit > 0 && render->get_option("--passes")->count() == 0) settings.progressive.passes = INT32_MAX;
       if (!std::isfinite(display.exposure) || std::abs(display.exposure) > 64)
         throw Error("--exposure: must be a number of EV from -64 to 64, got " + formatNumber(display.exposure));
       try {
@@ -415,6 +404,19 @@ int main(int argc, char** argv) {
     if (*info) return cmdInfo(infoScene);
     if (*compare) return cmdCompare(imagePath, referencePath);
     if (*bench) return runBench(benchScene, benchThreads, benchSpp);
+    if (*integratorsCmd) {
+      if (markdown) {
+        std::printf("%s", integratorsMarkdown().c_str());
+        return 0;
+      }
+      for (const IntegratorEntry* e : integrators()) {
+        std::printf("%s: %s\n", e->name.c_str(), e->summary.c_str());
+        for (const ParamSpec& p : e->params)
+          std::printf("  %-20s %-28s %s (default %s; %s)\n", p.flag().c_str(), ("TOML " + p.name).c_str(), p.doc.c_str(),
+                      p.defaultValue.empty() ? p.defaultDoc.c_str() : p.defaultValue.c_str(), p.range().c_str());
+      }
+      return 0;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "photonlab: %s\n", e.what());
     return 1;

@@ -10,40 +10,30 @@
 namespace pl {
 namespace fs = std::filesystem;
 
-namespace {
-
-// Which integrators a run key applies to. A key that does not apply is an error: `alpha = 0.5`
-// on a path-traced run is a mistake the user wants to hear about, not a silent no-op.
-enum Applies : unsigned { kSpp = 1, kPhoton = 2, kProgressive = 4, kAll = 7 };
-
-struct RunKey {
-  const char* key;
-  unsigned applies;
-  const char* help;
-};
-
-const RunKey kRunKeys[] = {
-    {"time", kAll, "budget in seconds"},
-    {"spectral", kAll, "true: spectral rendering (CIE 1931 film)"},
-    {"max_depth", kAll, "maximum number of bounces"},
-    {"spp", kSpp | kPhoton, "samples per pixel"},
-    {"photons", kPhoton, "emitted photon paths for the global map"},
-    {"caustic_photons", kPhoton, "emitted photon paths for the caustic map"},
-    {"k", kPhoton, "k nearest photons per estimate"},
-    {"radius", kPhoton | kProgressive, "gather radius in metres (photon: fixed radius; progressive: initial radius)"},
-    {"max_radius", kPhoton, "cap on the k-NN radius in metres"},
-    {"kernel", kPhoton, "uniform, cone, epanechnikov or silverman"},
-    {"final_gather", kPhoton, "gather rays per diffuse hit (0: direct visualisation)"},
-    {"passes", kProgressive, "number of photon passes"},
-    {"photons_per_pass", kProgressive, "photon paths emitted per pass"},
-    {"alpha", kProgressive, "fraction of new photons kept, in (0, 1]"},
-};
-
-unsigned familyOf(const std::string& integrator) {
-  if (isProgressive(integrator)) return kProgressive;
-  if (integrator == "photon") return kPhoton;
-  return kSpp;
+RunSettings RunSettings::of(const std::string& name) {
+  RunSettings s;
+  s.integrator = name;
+  s.params = integratorEntry(name).defaults();
+  return s;
 }
+
+RenderOptions RunSettings::renderOptions() const {
+  RenderOptions o = image;
+  if (params.has("spp")) o.spp = int(params.integer("spp"));  // unset (time alone): 0, unlimited
+  return o;
+}
+
+std::string RunSettings::budgetUnit() const {
+  const ParamSpec* b = entry().budgetParam();
+  return b ? b->name : "spp";
+}
+
+const std::vector<std::string>& RunSettings::commonKeys() {
+  static const std::vector<std::string> keys = {"time", "spectral"};
+  return keys;
+}
+
+namespace {
 
 class Parser {
  public:
@@ -115,79 +105,62 @@ class Parser {
   }
 
   // `integrator`, then every other key of a run (or of the reference) into `s`.
-  // `prefix` names the table in messages ("run[2]", "reference").
+  // `prefix` names the table in messages ("run[2]", "reference"). A key that does not apply is
+  // an error: `alpha = 0.5` on a path-traced run is a mistake the user wants to hear about, not a
+  // silent no-op.
   void runSettings(const toml::table& t, const std::string& prefix, const std::set<std::string>& alsoAllowed, RunSettings* s) const {
     const toml::node* in = t.get("integrator");
-    if (!in) fail(int(t.source().begin.line), prefix, "needs an integrator (" + allIntegrators() + ")");
-    s->integrator = string(*in, prefix + ".integrator");
-    bool known = false;
-    for (auto& n : integratorNames()) known = known || n == s->integrator;
-    if (!known) fail(in, prefix + ".integrator", "unknown integrator '" + s->integrator + "' (" + allIntegrators() + ")");
-    const unsigned family = familyOf(s->integrator);
-    bool hasSpp = false, hasPasses = false, hasTime = false;
+    if (!in) fail(int(t.source().begin.line), prefix, "needs an integrator (" + integratorList() + ")");
+    std::string integrator = string(*in, prefix + ".integrator");
+    if (!findIntegrator(integrator))
+      fail(in, prefix + ".integrator", "unknown integrator '" + integrator + "' (" + integratorList() + ")");
+    *s = RunSettings::of(integrator);
+    const IntegratorEntry& entry = s->entry();
+    const ParamSpec* budget = entry.budgetParam();
+    bool hasBudget = false, hasTime = false;
 
     for (auto&& [k, node] : t) {
       const std::string key(k.str()), name = prefix + "." + key;
       if (key == "integrator" || alsoAllowed.count(key)) continue;
-      const RunKey* rk = nullptr;
-      for (auto& r : kRunKeys)
-        if (key == r.key) rk = &r;
-      if (!rk) fail(&node, name, "unknown key (known: " + knownKeys(family, alsoAllowed) + ")");
-      if (!(rk->applies & family))
-        fail(&node, name, "is not a parameter of integrator " + s->integrator + " (it takes: " + knownKeys(family, alsoAllowed) + ")");
-
       if (key == "spectral") {
         if (!node.is_boolean()) fail(&node, name, std::string("must be true or false, got ") + typeName(node));
-        s->image.spectral = s->options.spectral = s->progressive.spectral = node.as_boolean()->get();
-      } else if (key == "time") {
-        hasTime = true;
-        s->image.timeLimit = s->progressive.timeLimit = number(node, name, 0.0, 1e7, false);
-      } else if (key == "max_depth") {
-        s->options.maxDepth = s->progressive.maxDepth = int(integer(node, name, 1, 10000));
-      } else if (key == "spp") {
-        hasSpp = true;
-        s->image.spp = int(integer(node, name, 1, 1 << 24));
-      } else if (key == "photons") {
-        s->options.photons = uint64_t(integer(node, name, 0, 4294967295LL));
-      } else if (key == "caustic_photons") {
-        s->options.causticPhotons = uint64_t(integer(node, name, 0, 4294967295LL));
-      } else if (key == "k") {
-        s->options.density.k = int(integer(node, name, 1, 100000));
-      } else if (key == "radius") {
-        float r = float(number(node, name, 0.0, 1e9, false));
-        s->options.density.radius = r;
-        s->progressive.radius = r;
-      } else if (key == "max_radius") {
-        s->options.density.maxRadius = float(number(node, name, 0.0, 1e9, false));
-      } else if (key == "kernel") {
-        std::string kn = string(node, name);
-        try {
-          s->options.density.kernel = parseKernel(kn);
-        } catch (const Error&) {
-          fail(&node, name, "unknown kernel '" + kn + "' (uniform, cone, epanechnikov, silverman)");
-        }
-      } else if (key == "final_gather") {
-        s->options.finalGather = int(integer(node, name, 0, 100000));
-      } else if (key == "passes") {
-        hasPasses = true;
-        s->progressive.passes = int(integer(node, name, 1, 1 << 24));
-      } else if (key == "photons_per_pass") {
-        s->progressive.photonsPerPass = uint64_t(integer(node, name, 1, 4294967295LL));
-      } else if (key == "alpha") {
-        s->progressive.alpha = number(node, name, 0.0, 1.0, false);
+        s->image.spectral = node.as_boolean()->get();
+        continue;
       }
+      if (key == "time") {
+        hasTime = true;
+        s->image.timeLimit = number(node, name, 0.0, 1e7, false);
+        continue;
+      }
+      const ParamSpec* spec = s->params.spec(key);
+      if (!spec) {
+        if (integratorsTaking(key).empty()) fail(&node, name, "unknown key (known: " + knownKeys(entry, alsoAllowed) + ")");
+        fail(&node, name, "is not a parameter of integrator " + s->integrator + " (it takes: " + knownKeys(entry, alsoAllowed) + ")");
+      }
+      if (spec->type == ParamType::Integer && !node.is_integer())
+        fail(&node, name, std::string("must be an integer, got ") + typeName(node));
+      if (spec->type == ParamType::Real && !node.is_integer() && !node.is_floating_point())
+        fail(&node, name, std::string("must be a number, got ") + typeName(node));
+      if (spec->type == ParamType::Choice && !node.is_string())
+        fail(&node, name, std::string("must be a string, got ") + typeName(node));
+      try {
+        if (spec->type == ParamType::Choice) s->params.setChoice(key, node.as_string()->get());
+        else if (node.is_integer()) s->params.setNumber(key, double(node.as_integer()->get()));
+        else s->params.setNumber(key, node.as_floating_point()->get());
+      } catch (const Error& e) {
+        fail(&node, name, e.what());
+      }
+      if (budget && key == budget->name) hasBudget = true;
     }
     // A time budget alone means: as many samples or passes as fit.
-    if (hasTime && !hasSpp) s->image.spp = 0;
-    if (hasTime && !hasPasses) s->progressive.passes = INT32_MAX;
+    if (hasTime && !hasBudget && budget) s->params.unset(budget->name);
   }
 
-  static std::string allIntegrators() { return integratorList(); }
-  static std::string knownKeys(unsigned family, const std::set<std::string>& also) {
+  static std::string knownKeys(const IntegratorEntry& entry, const std::set<std::string>& also) {
     std::string s = "integrator";
     for (auto& a : also) s += ", " + a;
-    for (auto& r : kRunKeys)
-      if (r.applies & family) s += std::string(", ") + r.key;
+    for (auto& k : RunSettings::commonKeys()) s += ", " + k;
+    for (auto& p : entry.params) s += ", " + p.name;
     return s;
   }
 
@@ -376,26 +349,15 @@ namespace {
 
 void addSettings(toml::table& t, const RunSettings& s) {
   t.insert_or_assign("integrator", s.integrator);
-  const unsigned family = familyOf(s.integrator);
   if (s.image.timeLimit > 0) t.insert_or_assign("time", s.image.timeLimit);
-  t.insert_or_assign("max_depth", s.options.maxDepth);
   if (s.image.spectral) t.insert_or_assign("spectral", true);
-  if (family == kProgressive) {
-    if (s.progressive.passes != INT32_MAX) t.insert_or_assign("passes", s.progressive.passes);
-    t.insert_or_assign("photons_per_pass", int64_t(s.progressive.photonsPerPass));
-    t.insert_or_assign("alpha", s.progressive.alpha);
-    if (s.progressive.radius > 0) t.insert_or_assign("radius", double(s.progressive.radius));
-    return;
-  }
-  if (s.image.spp > 0) t.insert_or_assign("spp", s.image.spp);
-  if (family == kPhoton) {
-    t.insert_or_assign("photons", int64_t(s.options.photons));
-    t.insert_or_assign("caustic_photons", int64_t(s.options.causticPhotons));
-    t.insert_or_assign("k", s.options.density.k);
-    if (s.options.density.radius > 0) t.insert_or_assign("radius", double(s.options.density.radius));
-    if (s.options.density.maxRadius > 0) t.insert_or_assign("max_radius", double(s.options.density.maxRadius));
-    t.insert_or_assign("kernel", kernelName(s.options.density.kernel));
-    t.insert_or_assign("final_gather", s.options.finalGather);
+  // Every parameter that has a value, typed as declared (an unset budget: unlimited; an unset
+  // radius: resolved from the scene before this is written, or the method's own default).
+  for (const ParamSpec& p : s.params.specs()) {
+    if (!s.params.isSet(p.name)) continue;
+    if (p.type == ParamType::Choice) t.insert_or_assign(p.name, s.params.choice(p.name));
+    else if (p.type == ParamType::Integer) t.insert_or_assign(p.name, s.params.integer(p.name));
+    else t.insert_or_assign(p.name, s.params.real(p.name));
   }
 }
 

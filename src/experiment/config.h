@@ -10,10 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "integrators/integrator.h"
+#include "integrators/registry.h"
 #include "io/tonemap.h"
-#include "progressive/progressive.h"
-#include "render/renderer.h"
+#include "render/render_options.h"
 
 namespace pl {
 
@@ -21,9 +20,18 @@ namespace pl {
 // outputs. Budgets: `spp` (or `passes`) and/or `time`; whichever comes first ends the run.
 struct RunSettings {
   std::string integrator = "path";
-  RenderOptions image;              // width/height/seed/threads come from the experiment
-  IntegratorOptions options;        // max depth, photon-map parameters
-  ProgressiveOptions progressive;   // passes, photons per pass, alpha, radius (ppm, sppm, pppm)
+  RenderOptions image;  // width/height/seed/threads come from the experiment; time, spectral
+  ParamSet params = integratorEntry("path").defaults();  // the integrator's declared parameters
+
+  // `name`'s defaults; throws Error for an unknown name.
+  static RunSettings of(const std::string& name);
+  const IntegratorEntry& entry() const { return integratorEntry(integrator); }
+  // What the integrator renders with: `image` with spp from the parameters when it declares it.
+  RenderOptions renderOptions() const;
+  // The render's budget unit: "spp" or "passes".
+  std::string budgetUnit() const;
+  // Run keys every integrator takes (beside its own parameters).
+  static const std::vector<std::string>& commonKeys();
 };
 
 struct RunConfig {

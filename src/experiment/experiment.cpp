@@ -14,7 +14,6 @@
 
 #include "core/interrupt.h"
 #include "io/image_io.h"
-#include "integrators/photon.h"
 #include "io/metrics.h"
 #include "scene/gltf_loader.h"
 
@@ -28,99 +27,35 @@ extern const char* const kGitRevision;  // generated at build time (scripts/git_
 
 ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpointFn& checkpoint, CheckpointInfo* final,
                    std::vector<std::string>* warnings, uint64_t* nonFiniteSamples) {
-  CheckpointInfo last;
-  if (isProgressive(s.integrator)) {
-    auto integrator = makeProgressiveIntegrator(s.integrator);
-    auto toInfo = [&](const PassInfo& p) {
-      CheckpointInfo c;
-      c.seconds = p.seconds;
-      c.passes = p.passes;
-      c.meanWork = p.meanPasses;
-      c.photons = p.photons;
-      c.meanRadius = p.meanRadius;
-      c.interrupted = p.interrupted;
-      c.timeUp = p.timeUp;
-      c.last = p.last;
-      return c;
-    };
-    PassInfo info;
-    CheckpointFn fn;
-    if (checkpoint) fn = [&](const ImageRGB& image, const PassInfo& p) { checkpoint(image, toInfo(p)); };
-    ImageRGB image = integrator->render(scene, s.image, s.progressive, fn, &info);
-    last = toInfo(info);
-    last.last = true;
-    if (final) *final = last;
-    if (nonFiniteSamples) *nonFiniteSamples = 0;
-    return image;
-  }
-  auto integrator = makeIntegrator(s.integrator, s.options);
-  const uint64_t photons = s.integrator == "photon" ? s.options.photons + s.options.causticPhotons : 0;
-  // The photon map's mean gather radius at the visible points: known once the maps exist (at
-  // the first checkpoint or at the end), measured once.
-  double gatherRadius = -1;
-  auto meanRadius = [&] {
-    auto* pm = dynamic_cast<const PhotonIntegrator*>(integrator.get());
-    if (gatherRadius < 0) gatherRadius = pm ? pm->meanGatherRadius(scene, s.image.width, s.image.height) : 0.0;
-    return gatherRadius;
-  };
-  auto toInfo = [&](const RenderStats& st) {
-    CheckpointInfo c;
-    c.seconds = st.seconds;
-    c.spp = st.spp;
-    c.meanWork = st.meanSpp;
-    c.photons = photons;
-    c.meanRadius = meanRadius();
-    c.interrupted = st.interrupted;
-    c.timeUp = st.timeUp;
-    c.last = st.last;
-    return c;
-  };
-  RenderOptions o = s.image;
-  if (checkpoint) o.checkpoint = [&](const ImageRGB& image, const RenderStats& st) { checkpoint(image, toInfo(st)); };
-  RenderStats stats;
-  ImageRGB image = render(scene, *integrator, o, &stats);
+  RenderOptions o = s.renderOptions();
+  auto integrator = makeIntegrator(s.integrator, s.params, o);
+  o.checkpoint = checkpoint;
+  RenderInfo info;
+  ImageRGB image = integrator->render(scene, o, &info);
   if (warnings)
     for (auto& w : integrator->warnings()) warnings->push_back(w);
-  last = toInfo(stats);
-  last.last = true;
-  if (final) *final = last;
-  if (nonFiniteSamples) *nonFiniteSamples = stats.nonFiniteSamples;
+  info.last = true;
+  if (final) *final = info;
+  if (nonFiniteSamples) *nonFiniteSamples = info.nonFiniteSamples;
   return image;
 }
-
 
 std::map<std::string, std::string> runMetadata(const RunSettings& s, const CheckpointInfo& info, const std::string& scenePath) {
   std::map<std::string, std::string> m = {
       {"integrator", s.integrator},         {"seed", seedString(s.image.seed)}, {"git_revision", kGitRevision},
       {"seconds", formatNumber(info.seconds)},    {"scene", scenePath},
-      {"max_depth", std::to_string(s.options.maxDepth)},
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
-  if (isProgressive(s.integrator)) {
-    m["passes"] = std::to_string(info.passes);
-    if (info.meanWork != info.passes) m["mean_passes"] = formatNumber(info.meanWork);
-    m["photons"] = std::to_string(info.photons);
-    m["photons_per_pass"] = std::to_string(s.progressive.photonsPerPass);
-    m["alpha"] = formatNumber(s.progressive.alpha);
-    m["radius"] = formatNumber(info.meanRadius);
-    m["initial_radius"] = formatNumber(s.progressive.radius);
-  } else {
-    m["spp"] = std::to_string(info.spp);
-    if (info.meanWork != info.spp) m["mean_spp"] = formatNumber(info.meanWork);
-  }
-  if (s.integrator == "photon") {
-    const auto& d = s.options.density;
-    m["photons"] = std::to_string(s.options.photons);
-    m["caustic_photons"] = std::to_string(s.options.causticPhotons);
-    m["k"] = std::to_string(d.k);
-    // Fixed radius, or k-NN (radius 0) capped at max_radius; the mean radius actually used at
-    // the visible points (PhotonIntegrator::meanGatherRadius), once the render has it.
-    m["radius"] = formatNumber(d.radius);
-    m["max_radius"] = formatNumber(d.maxRadius);
-    if (info.meanRadius > 0) m["mean_radius"] = formatNumber(info.meanRadius);
-    m["kernel"] = kernelName(d.kernel);
-    m["final_gather"] = std::to_string(s.options.finalGather);
-    if (!s.options.aov.empty()) m["aov"] = s.options.aov;
-  }
+  // Every declared parameter (unset ones as 0: e.g. radius 0, k nearest instead).
+  for (const ParamSpec& p : s.params.specs()) m[p.metaKey()] = s.params.format(p);
+  // Then what was done: the samples or passes reached (over the budget parameter, which only
+  // said how many were asked for), photon paths traced, the gather radius reached.
+  const std::string unit = s.budgetUnit();
+  const int done = unit == "passes" ? info.passes : info.spp;
+  m[unit] = std::to_string(done);
+  if (info.meanWork != done) m["mean_" + unit] = formatNumber(info.meanWork);
+  if (info.photons > 0 && !s.params.has("photons")) m["photons"] = std::to_string(info.photons);
+  if (info.meanRadius > 0) m[m.count("radius") ? "mean_radius" : "radius"] = formatNumber(info.meanRadius);
+  if (m.count("aov") && m["aov"] == "radiance") m.erase("aov");
   if (s.image.nanAov) m["aov"] = "nan";
   if (s.image.spectral) m["spectral"] = "1";
   if (s.image.timeLimit > 0) m["time_budget"] = formatNumber(s.image.timeLimit);
@@ -302,9 +237,7 @@ class Experiment {
       s->image.threads = c_.threads;
       // The progressive methods' default radius depends on the scene: fill it in, so that the
       // resolved config and the images' metadata say what was used.
-      if (isProgressive(s->integrator) && s->progressive.radius <= 0)
-        s->progressive.radius = defaultRadius(*scene_, c_.width, c_.height).radius;
-      if (s->integrator == "photon") s->options.density = PhotonIntegrator::resolveDensity(*scene_, s->options.density);
+      if (s->entry().resolve) s->entry().resolve(*scene_, c_.width, c_.height, s->params);
     }
     // The fingerprint of what would be rendered; threads do not change results (deterministic).
     std::string key = c_.scene + "\n" + c_.reference.file + "\n" + settingsFingerprint(c_.reference.settings);
@@ -514,7 +447,7 @@ class Experiment {
       char name[48];
       if (info.interrupted) std::snprintf(name, sizeof name, "partial.exr");
       else if (final) std::snprintf(name, sizeof name, "final.exr");
-      else if (isProgressive(s.integrator)) std::snprintf(name, sizeof name, "pass-%04d.exr", info.passes);
+      else if (s.budgetUnit() == "passes") std::snprintf(name, sizeof name, "pass-%04d.exr", info.passes);
       else std::snprintf(name, sizeof name, "spp-%04d.exr", info.spp);
       const fs::path image_rel = folder / name;
       writeImage((out_ / image_rel).string(), image, meta);
@@ -541,8 +474,8 @@ class Experiment {
       rows_.push_back({run, seed, final, line});
       writeMetrics();
       if (!o_.quiet)
-        std::fprintf(stderr, "  %8.2f s  %s %-5d relMSE %.4g%s\n", info.seconds, isProgressive(s.integrator) ? "passes" : "spp",
-                     isProgressive(s.integrator) ? info.passes : info.spp, m.relmse, final ? "  (final)" : "");
+        std::fprintf(stderr, "  %8.2f s  %s %-5d relMSE %.4g%s\n", info.seconds, s.budgetUnit().c_str(),
+                     s.budgetUnit() == "passes" ? info.passes : info.spp, m.relmse, final ? "  (final)" : "");
     };
     std::vector<std::string> warnings;
     uint64_t nonFinite = 0;

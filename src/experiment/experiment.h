@@ -12,28 +12,18 @@
 
 namespace pl {
 
-// One point of a run's convergence curve.
-struct CheckpointInfo {
-  double seconds = 0.0;  // render time so far (checkpoint writing excluded)
-  int spp = 0;           // samples per pixel (spp-based integrators)
-  int passes = 0;        // photon passes (progressive integrators)
-  double meanWork = 0.0;  // spp or passes per pixel on average: more than spp/passes when the
-                          // budget cut the last pass short, after it reached some pixels
-  uint64_t photons = 0;  // photon paths emitted so far (photon, ppm, sppm, pppm)
-  double meanRadius = 0.0;
-  bool last = false;         // the run's final image
-  bool interrupted = false;  // stopped by SIGINT/SIGTERM: a partial result
-  bool timeUp = false;       // stopped because the time budget was spent
-};
+// One point of a run's convergence curve: what the render reports at a checkpoint.
+using CheckpointInfo = RenderInfo;
 using RunCheckpointFn = std::function<void(const ImageRGB&, const CheckpointInfo&)>;
 
 // Renders `settings` on `scene`, calling `checkpoint` after 1, 2, 4, ... samples or passes and for
-// the last image. Whatever the integrator family, one call. Warnings (e.g. "no photons stored")
+// the last image. Warnings (e.g. "no photons stored")
 // are appended to `warnings`.
 ImageRGB renderRun(const Scene& scene, const RunSettings& settings, const RunCheckpointFn& checkpoint,
                    CheckpointInfo* final, std::vector<std::string>* warnings, uint64_t* nonFiniteSamples = nullptr);
 
-// The image metadata photonlab writes for a run (read back by `photonlab info IMAGE.exr`).
+// The image metadata photonlab writes for a run (read back by `photonlab info IMAGE.exr`): the
+// integrator's declared parameters (under their metadata keys), then what the render reports.
 std::map<std::string, std::string> runMetadata(const RunSettings& settings, const CheckpointInfo& info,
                                                const std::string& scenePath);
 

@@ -1,5 +1,7 @@
 #include "integrators/direct.h"
 
+#include "integrators/registry.h"
+
 namespace pl {
 
 Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, Rng& rng) const {
@@ -10,5 +12,10 @@ Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, Rng& rng) cons
   if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), rng, false);
   return L;
 }
+
+static const IntegratorRegistration registration({
+    "direct", "emission seen directly plus one shadow-ray light sample at the first hit (local illumination)",
+    {params::spp()},
+    [](const ParamSet&, const RenderOptions&) { return std::make_unique<DirectIntegrator>(); }});
 
 }  // namespace pl

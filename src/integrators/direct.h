@@ -5,7 +5,7 @@ namespace pl {
 
 // Local illumination: emitted radiance seen directly, plus one shadow-ray light sample at the
 // first hit. Mirrors and glass show only what they emit (black).
-class DirectIntegrator final : public Integrator {
+class DirectIntegrator final : public PixelIntegrator {
  public:
   Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const override;
   const char* name() const override { return "direct"; }

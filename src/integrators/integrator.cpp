@@ -1,27 +1,6 @@
 #include "integrators/integrator.h"
 
-#include "integrators/direct.h"
-#include "integrators/path.h"
-#include "integrators/photon.h"
-#include "integrators/whitted.h"
-
 namespace pl {
-
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options) {
-  if (name == "direct") return std::make_unique<DirectIntegrator>();
-  if (name == "whitted") return std::make_unique<WhittedIntegrator>(options.maxDepth);
-  if (name == "path") return std::make_unique<PathIntegrator>(options.maxDepth);
-  if (name == "photon") return std::make_unique<PhotonIntegrator>(options);
-  throw Error("--integrator: unknown integrator '" + name + "' (" + integratorList() + ")");
-}
-
-std::vector<std::string> integratorNames() { return {"direct", "whitted", "path", "photon", "ppm", "sppm", "pppm"}; }
-
-std::string integratorList() {
-  std::string s;
-  for (auto& n : integratorNames()) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis) {
   const AliasTable& dist = scene.lightDistribution();

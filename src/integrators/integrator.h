@@ -1,5 +1,10 @@
-// The integrator interface: radiance arriving along a camera ray. Each integrator is one file;
-// makeIntegrator() is the only place that knows them all.
+// The integrator interface: an integrator renders the whole image and owns its loop (as
+// pbrt-v4's Integrator::Render). Three shared loops hold the parts every algorithm repeats (keyed
+// random streams, camera samples, wavelengths, budget, checkpoints, the film):
+//   PixelIntegrator  camera-side, one radiance estimate Li per pixel sample (render/renderer.h);
+//   PassIntegrator   eye passes and photon passes alternating (progressive/progressive.h);
+//   light-side       light paths splatted onto the film (render/light_loop.h).
+// Each integrator registers itself, with its parameters, in its own file (integrators/registry.h).
 #pragma once
 #include <memory>
 #include <string>
@@ -7,39 +12,34 @@
 
 #include "core/budget.h"
 #include "core/rng.h"
-#include "photon/kernels.h"
+#include "render/render_options.h"
 #include "scene/scene.h"
 
 namespace pl {
 
-struct IntegratorOptions {
-  int maxDepth = 64;  // maximum number of bounces (path segments after the camera ray)
-  // Photon mapping (--integrator photon).
-  uint64_t photons = 200000;         // emitted paths for the global map
-  uint64_t causticPhotons = 200000;  // emitted paths for the caustic map
-  DensityEstimation density;         // k / radius / max radius / kernel
-  int finalGather = 32;              // gather rays per first diffuse hit; 0 = direct visualisation
-  std::string aov;                   // "" (radiance), "photons" or "radius"
-  bool spectral = false;             // photons carry wavelengths (with RenderOptions::spectral)
-};
-
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  // Work done once before the first sample (photon tracing). Deterministic for a seed. It polls
-  // the render's budget: when that expires the render stops, whatever preprocess() has left.
-  virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
-  virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
+  // Deterministic for options.seed whatever options.threads is; stops early when the time
+  // budget ends or on an interrupt (info says which).
+  virtual ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) = 0;
   virtual const char* name() const = 0;
   // Things the user should know (e.g. "no photons were stored"), printed by the CLI.
   virtual std::vector<std::string> warnings() const { return {}; }
 };
 
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
-// Every integrator's name: the per-sample ones above and the progressive ones
-// (progressive/progressive.h); integratorList() joins them for messages.
-std::vector<std::string> integratorNames();
-std::string integratorList();
+// Camera-side integrators: the pixel value is the mean of Li over the pixel's samples.
+class PixelIntegrator : public Integrator {
+ public:
+  // Work done once before the first sample (photon tracing). Deterministic for a seed. It polls
+  // the render's budget: when that expires the render stops, whatever preprocess() has left.
+  virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
+  // Radiance arriving along a camera ray.
+  virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
+  // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
+  virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
+  ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
+};
 
 // Next-event estimation at a non-delta surface point: one light chosen by power, one point on
 // it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by

@@ -1,5 +1,7 @@
 #include "integrators/path.h"
 
+#include "integrators/registry.h"
+
 namespace pl {
 
 Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) const {
@@ -51,5 +53,10 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) 
   }
   return L;
 }
+
+static const IntegratorRegistration registration({
+    "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
+    {params::spp(), params::maxDepth()},
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PathIntegrator>(int(p.integer("max_depth"))); }});
 
 }  // namespace pl

@@ -7,7 +7,7 @@ namespace pl {
 // Next-event estimation at every non-delta vertex, combined with BSDF sampling of emitters by
 // multiple importance sampling (power heuristic), Russian roulette from the 4th bounce on.
 // Solves L(x, ωo) = Le + ∫ f(ωo, ωi) L(x', −ωi) |cosθi| dωi without bias (up to maxDepth).
-class PathIntegrator final : public Integrator {
+class PathIntegrator final : public PixelIntegrator {
  public:
   explicit PathIntegrator(int maxDepth) : maxDepth_(maxDepth) {}
   Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const override;

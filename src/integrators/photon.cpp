@@ -1,5 +1,6 @@
 #include "integrators/photon.h"
 
+#include "integrators/registry.h"
 #include "render/visible_probe.h"
 
 namespace pl {
@@ -34,6 +35,12 @@ DensityEstimation PhotonIntegrator::resolveDensity(const Scene& scene, DensityEs
   if (de.radius <= 0 && de.maxRadius <= 0) de.maxRadius = 0.05f * scene.bounds().radius();
   de.planeTolerance = 0.25f * (de.radius > 0 ? de.radius : de.maxRadius);
   return de;
+}
+
+void PhotonIntegrator::addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {
+  info->photons = o_.photons + o_.causticPhotons;
+  if (gatherRadius_ < 0) gatherRadius_ = meanGatherRadius(scene, options.width, options.height);
+  info->meanRadius = gatherRadius_;
 }
 
 double PhotonIntegrator::meanGatherRadius(const Scene& scene, int width, int height) const {
@@ -121,5 +128,65 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng
   }
   return L;
 }
+
+namespace {
+
+PhotonOptions photonOptions(const ParamSet& p, const RenderOptions& image) {
+  PhotonOptions o;
+  o.maxDepth = int(p.integer("max_depth"));
+  o.photons = uint64_t(p.integer("photons"));
+  o.causticPhotons = uint64_t(p.integer("caustic_photons"));
+  o.density.k = int(p.integer("k"));
+  o.density.radius = float(p.real("radius"));
+  o.density.maxRadius = float(p.real("max_radius"));
+  o.density.kernel = parseKernel(p.choice("kernel"));
+  o.finalGather = int(p.integer("final_gather"));
+  o.aov = p.choice("aov") == "radiance" ? "" : p.choice("aov");
+  o.spectral = image.spectral;
+  return o;
+}
+
+std::vector<ParamSpec> photonParams() {
+  const double maxPaths = 4294967295.0;  // photon indices are 32-bit in the kd-tree
+  ParamSpec photons{"photons", ParamType::Integer, "emitted photon paths for the global map", "200000"};
+  photons.lo = 0, photons.hi = maxPaths;
+  ParamSpec caustic{"caustic_photons", ParamType::Integer, "emitted photon paths for the caustic map (0: caustics from the global map)", "200000"};
+  caustic.lo = 0, caustic.hi = maxPaths;
+  ParamSpec k{"k", ParamType::Integer, "k nearest photons per estimate", "50"};
+  k.lo = 1, k.hi = 100000;
+  ParamSpec radius{"radius", ParamType::Real, "fixed gather radius in metres instead of k nearest"};
+  radius.defaultDoc = "k nearest photons";
+  radius.lo = 0, radius.hi = 1e9, radius.openLow = true;
+  ParamSpec maxRadius{"max_radius", ParamType::Real, "cap on the k-nearest radius in metres"};
+  maxRadius.defaultDoc = "5% of the scene's bounding radius";
+  maxRadius.lo = 0, maxRadius.hi = 1e9, maxRadius.openLow = true;
+  ParamSpec kernel{"kernel", ParamType::Choice, "density-estimation kernel", "epanechnikov"};
+  kernel.choices = {"uniform", "cone", "epanechnikov", "silverman"};
+  ParamSpec gather{"final_gather", ParamType::Integer, "gather rays per first diffuse hit; 0: direct visualisation of the global map", "32"};
+  gather.lo = 0, gather.hi = 100000;
+  ParamSpec aov{"aov", ParamType::Choice, "debug image instead of radiance: photons found, or the radius used", "radiance"};
+  aov.choices = {"radiance", "photons", "radius"};
+  return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov};
+}
+
+// The estimate's defaults made explicit (resolveDensity), so that the metadata records them.
+std::string resolvePhotonDensity(const Scene& scene, int, int, ParamSet& p) {
+  DensityEstimation d;
+  d.k = int(p.integer("k"));
+  d.radius = float(p.real("radius"));
+  d.maxRadius = float(p.real("max_radius"));
+  d = PhotonIntegrator::resolveDensity(scene, d);
+  if (d.maxRadius > 0) p.resolve("max_radius", d.maxRadius);
+  return d.radius > 0 ? "fixed radius " + formatNumber(d.radius) + " m"
+                      : std::to_string(d.k) + " nearest photons within at most " + formatNumber(d.maxRadius) + " m";
+}
+
+}  // namespace
+
+static const IntegratorRegistration registration({
+    "photon", "Jensen's two-pass photon mapping: global and caustic maps, final gathering",
+    photonParams(),
+    [](const ParamSet& p, const RenderOptions& image) { return std::make_unique<PhotonIntegrator>(photonOptions(p, image)); },
+    resolvePhotonDensity});
 
 }  // namespace pl

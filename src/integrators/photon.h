@@ -1,8 +1,19 @@
 #pragma once
 #include "integrators/integrator.h"
+#include "photon/kernels.h"
 #include "photon/photon_tracer.h"
 
 namespace pl {
+
+struct PhotonOptions {
+  int maxDepth = 64;                 // maximum number of bounces
+  uint64_t photons = 200000;         // emitted paths for the global map
+  uint64_t causticPhotons = 200000;  // emitted paths for the caustic map
+  DensityEstimation density;         // k / radius / max radius / kernel
+  int finalGather = 32;              // gather rays per first diffuse hit; 0 = direct visualisation
+  std::string aov;                   // "" (radiance), "photons" or "radius"
+  bool spectral = false;             // photons carry wavelengths (with RenderOptions::spectral)
+};
 
 // Jensen's two-pass photon mapping. Pass 1 (preprocess) traces the global and caustic maps.
 // Pass 2, per eye ray: emission seen directly or through specular surfaces; specular surfaces
@@ -11,12 +22,14 @@ namespace pl {
 // where L_indirect is either a final gather, N BSDF-sampled rays whose first non-specular hit y
 // looks up the *whole* global map (light arriving at y by any path), or, with finalGather = 0,
 // the global map at x itself without its direct and caustic photons (direct visualisation).
-class PhotonIntegrator final : public Integrator {
+class PhotonIntegrator final : public PixelIntegrator {
  public:
-  explicit PhotonIntegrator(const IntegratorOptions& options) : o_(options) {}
+  explicit PhotonIntegrator(const PhotonOptions& options) : o_(options) {}
   void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) override;
   Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const override;
   const char* name() const override { return "photon"; }
+  // Photon paths traced, and the mean gather radius (measured once, when the maps exist).
+  void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const override;
   std::vector<std::string> warnings() const override { return warnings_; }
   const PhotonMaps& maps() const { return maps_; }
   const DensityEstimation& density() const { return o_.density; }  // resolved by preprocess()
@@ -31,8 +44,9 @@ class PhotonIntegrator final : public Integrator {
  private:
   Spectrum causticRadiance(const SurfaceHit& hit, const Vec3& wo) const;
   Spectrum finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng) const;
-  IntegratorOptions o_;
+  PhotonOptions o_;
   PhotonMaps maps_;
+  mutable double gatherRadius_ = -1;  // meanGatherRadius(), once known
   std::vector<std::string> warnings_;
 };
 

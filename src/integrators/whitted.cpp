@@ -1,5 +1,7 @@
 #include "integrators/whitted.h"
 
+#include "integrators/registry.h"
+
 namespace pl {
 
 Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, Rng& rng, int depth) const {
@@ -28,5 +30,10 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, Rng& rng, 
   }
   return L;
 }
+
+static const IntegratorRegistration registration({
+    "whitted", "Whitted ray tracing: shadow rays at diffuse surfaces, recursion along every specular lobe",
+    {params::spp(), params::maxDepth()},
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<WhittedIntegrator>(int(p.integer("max_depth"))); }});
 
 }  // namespace pl

@@ -1,11 +1,12 @@
 #include "progressive/ppm.h"
 
 #include "core/parallel.h"
+#include "integrators/registry.h"
 
 namespace pl {
 
-ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
-                               const CheckpointFn& checkpoint, PassInfo* info) {
+ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, RenderInfo* info) {
+  const ProgressiveOptions& o = o_;
   PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
@@ -24,7 +25,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
       size_t i = y * W + x;
       Rng rng = Rng::keyed(ro.seed, i, 0);
       Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-      if (o.spectral) beginPath(true, rng.uniform());
+      if (ro.spectral) beginPath(true, rng.uniform());
       Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &hitPoints[i]);
       finishSpectralVisiblePoint(&hitPoints[i], &L);
       emitted[i] = glm::dvec3(L);
@@ -33,7 +34,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
@@ -52,7 +53,13 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, cons
         img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(double(passes[i]) * o.photonsPerPass)));
     return img;
   };
-  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
+  return runPasses(setup, o, info, pass, image, [&] { return meanRadius(stats); });
 }
+
+static const IntegratorRegistration registration({
+    "ppm", "progressive photon mapping (Hachisuka et al. 2008): fixed hit points, shrinking radii",
+    progressiveParams(),
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPMIntegrator>(progressiveOptions(p)); },
+    resolveProgressiveRadius});
 
 }  // namespace pl

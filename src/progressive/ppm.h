@@ -9,10 +9,10 @@ namespace pl {
 //   N' = N + αM,  R'² = R² (N + αM)/(N + M),  τ' = (τ + Φ_M) R'²/R²,
 // and the pixel converges to Le + τ / (π R² N_emitted). All light at the hit point, direct
 // included, comes from photons. The hit points never move: no antialiasing.
-class PPMIntegrator final : public ProgressiveIntegrator {
+class PPMIntegrator final : public PassIntegrator {
  public:
-  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
-                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  using PassIntegrator::PassIntegrator;
+  ImageRGB render(const Scene& scene, const RenderOptions& image, RenderInfo* info) override;
   const char* name() const override { return "ppm"; }
 };
 

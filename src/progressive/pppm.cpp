@@ -1,11 +1,12 @@
 #include "progressive/pppm.h"
 
 #include "core/parallel.h"
+#include "integrators/registry.h"
 
 namespace pl {
 
-ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
-                                const CheckpointFn& checkpoint, PassInfo* info) {
+ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, RenderInfo* info) {
+  const ProgressiveOptions& o = o_;
   PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
@@ -18,7 +19,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
   std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
@@ -31,14 +32,14 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-        Vec3 lambda = o.spectral ? beginPath(true, rng.uniform()) : Vec3(0.0f);
+        Vec3 lambda = ro.spectral ? beginPath(true, rng.uniform()) : Vec3(0.0f);
         VisiblePoint vp;
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
         if (vp.valid) {
           L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
           L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);  // uplifted on a spectral path
         }
-        if (o.spectral) {
+        if (ro.spectral) {
           L = spectralToRGB(L, lambda);
           spectralContext().active = false;
         }
@@ -57,7 +58,13 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
       if (passes[i] > 0) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passes[i])));
     return img;
   };
-  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return lastRadius; });
+  return runPasses(setup, o, info, pass, image, [&] { return lastRadius; });
 }
+
+static const IntegratorRegistration registration({
+    "pppm", "probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes, global radius schedule",
+    progressiveParams(),
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPPMIntegrator>(progressiveOptions(p)); },
+    resolveProgressiveRadius});
 
 }  // namespace pl

@@ -8,10 +8,10 @@ namespace pl {
 // at the first diffuse point with a fixed radius r_i and the uniform kernel); the radius
 // shrinks globally, r²_{i+1} = r²_i (i + α)/(i + 1), and the passes are averaged. Memory stays
 // constant, and passes rendered elsewhere can be merged by averaging (weighted by pass count).
-class PPPMIntegrator final : public ProgressiveIntegrator {
+class PPPMIntegrator final : public PassIntegrator {
  public:
-  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
-                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  using PassIntegrator::PassIntegrator;
+  ImageRGB render(const Scene& scene, const RenderOptions& image, RenderInfo* info) override;
   const char* name() const override { return "pppm"; }
 };
 

@@ -5,20 +5,30 @@
 #include "render/visible_probe.h"
 #include "spectral/spectral.h"
 
-#include "progressive/ppm.h"
-#include "progressive/pppm.h"
-#include "progressive/sppm.h"
 
 namespace pl {
 
-std::unique_ptr<ProgressiveIntegrator> makeProgressiveIntegrator(const std::string& name) {
-  if (name == "ppm") return std::make_unique<PPMIntegrator>();
-  if (name == "sppm") return std::make_unique<SPPMIntegrator>();
-  if (name == "pppm") return std::make_unique<PPPMIntegrator>();
-  throw Error("--integrator: unknown progressive integrator '" + name + "'");
+std::vector<ParamSpec> progressiveParams() {
+  return {params::passes(), params::photonsPerPass(), params::alpha(), params::progressiveRadius(), params::maxDepth()};
 }
 
-bool isProgressive(const std::string& name) { return name == "ppm" || name == "sppm" || name == "pppm"; }
+ProgressiveOptions progressiveOptions(const ParamSet& p) {
+  ProgressiveOptions o;
+  o.passes = p.isSet("passes") ? int(p.integer("passes")) : INT32_MAX;
+  o.photonsPerPass = uint64_t(p.integer("photons_per_pass"));
+  o.alpha = p.real("alpha");
+  o.radius = float(p.real("radius"));
+  o.maxDepth = int(p.integer("max_depth"));
+  return o;
+}
+
+std::string resolveProgressiveRadius(const Scene& scene, int width, int height, ParamSet& params) {
+  if (params.isSet("radius")) return "initial radius " + formatNumber(float(params.real("radius"))) + " m";
+  DefaultRadius r = defaultRadius(scene, width, height);
+  params.resolve("radius", r.radius);
+  return "initial radius " + formatNumber(r.radius) + " m (default: " + formatNumber(DefaultRadius::kFootprints) +
+         " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)";
+}
 
 Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp) {
   vp->valid = false;
@@ -96,7 +106,7 @@ DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
 }
 
 PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
-    : image(io), budget(o.timeLimit) {
+    : image(io), budget(io.timeLimit) {
   resolveResolution(scene.camera(), image);
   width = image.width;
   height = image.height;

@@ -1,6 +1,5 @@
 // The progressive photon-mapping family: integrators that converge as passes of photons
-// accumulate. They own the loop over passes (an eye pass and a photon pass alternate), so they
-// sit beside the per-sample Integrator interface rather than behind it.
+// accumulate. An eye pass and a photon pass alternate; runPasses() is their shared loop.
 #pragma once
 #include <chrono>
 #include <functional>
@@ -10,46 +9,32 @@
 #include "core/budget.h"
 #include "core/interrupt.h"
 #include "integrators/integrator.h"
+#include "integrators/params.h"
 #include "photon/photon_tracer.h"
 #include "render/renderer.h"
 
 namespace pl {
 
 struct ProgressiveOptions {
-  int passes = 64;
+  int passes = 64;                   // INT32_MAX: until the time budget ends
   uint64_t photonsPerPass = 100000;  // emitted photon paths per pass
   double alpha = 2.0 / 3.0;          // fraction of new photons kept; 2/3 minimises the MSE
   float radius = 0.0f;               // initial radius; 0 = defaultRadius()
-  double timeLimit = 0.0;            // stop at the first pass boundary after this (seconds)
   int maxDepth = 64;
-  bool spectral = false;             // --spectral: see spectral/spectral.h
 };
+// What the three declare: passes, photons_per_pass, alpha, radius, max_depth.
+std::vector<ParamSpec> progressiveParams();
+// From those parameters; passes unset (a time budget alone): unlimited.
+ProgressiveOptions progressiveOptions(const ParamSet& p);
 
-struct PassInfo {
-  int passes = 0;             // passes every pixel has completed
-  double meanPasses = 0.0;    // passes per pixel on average (a budget-cut pass reaches some pixels only)
-  uint64_t photons = 0;       // photon paths emitted so far, in passes whose photons were used
-  double seconds = 0.0;       // the time actually spent (checkpoints excluded)
-  double meanRadius = 0.0;    // mean gather radius (per pixel for PPM/SPPM, global for PPPM)
-  bool interrupted = false;   // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
-  bool timeUp = false;        // stopped because the time budget was spent
-  bool last = false;          // the render's final image
-};
-
-// Called with the current estimate after passes 1, 2, 4, 8, ... (and after the last pass); the
-// time it takes is not counted in PassInfo::seconds nor against the time limit.
-using CheckpointFn = std::function<void(const ImageRGB&, const PassInfo&)>;
-
-class ProgressiveIntegrator {
+class PassIntegrator : public Integrator {
  public:
-  virtual ~ProgressiveIntegrator() = default;
-  virtual ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
-                          const CheckpointFn& checkpoint, PassInfo* info) = 0;
-  virtual const char* name() const = 0;
-};
+  explicit PassIntegrator(const ProgressiveOptions& options) : o_(options) {}
+  const ProgressiveOptions& options() const { return o_; }
 
-std::unique_ptr<ProgressiveIntegrator> makeProgressiveIntegrator(const std::string& name);
-bool isProgressive(const std::string& name);
+ protected:
+  ProgressiveOptions o_;
+};
 
 // ---- shared pieces ----
 
@@ -105,16 +90,20 @@ struct DefaultRadius {
   size_t visiblePoints = 0;  // of the 1024 rays, how many found a diffuse or glossy point
 };
 DefaultRadius defaultRadius(const Scene& scene, int width, int height);
+// The registry's resolve step for the progressive integrators: an unset radius becomes
+// defaultRadius(); returns the sentence the CLI prints about it.
+std::string resolveProgressiveRadius(const Scene& scene, int width, int height, ParamSet& params);
 
 // What every progressive integrator derives from its options before the first pass, and the
 // render's budget (started here: the set-up counts towards the render time).
 struct PassSetup {
   PassSetup(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
+  PassSetup(const PassSetup&) = delete;
   RenderOptions image;  // resolution resolved
   int width, height, threads;
   size_t pixels;
   float initialRadius;  // options.radius, or defaultRadius()
-  Budget budget;        // options.timeLimit; polled per pixel, per photon chunk, in the kd-tree build
+  Budget budget;        // image.timeLimit; polled per pixel, per photon chunk, in the kd-tree build
   // Passes each pixel has completed: equal, except that a pass the budget cut short during its
   // gathers reached only some pixels, each pixel's estimate using its own count.
   std::vector<uint32_t> passes;
@@ -143,15 +132,16 @@ void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
 // pixels' completed passes in setup.passes. Hands image() to the checkpoint after passes 1, 2,
 // 4, ... and the last.
 template <typename PassFn, typename ImageFn, typename RadiusFn>
-ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, const CheckpointFn& checkpoint, PassInfo* info,
-                   PassFn&& pass, ImageFn&& image, RadiusFn&& meanRadius) {
+ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* info, PassFn&& pass, ImageFn&& image,
+                   RadiusFn&& meanRadius) {
   Budget& budget = setup.budget;
-  PassInfo pi;
+  const auto& checkpoint = setup.image.checkpoint;
+  RenderInfo pi;
   uint64_t tracedPasses = 0;
   auto fill = [&](bool last) {
     PixelCounts counts = summarizeCounts(setup.passes);
     pi.passes = counts.all;
-    pi.meanPasses = counts.mean;
+    pi.meanWork = counts.mean;
     pi.photons = tracedPasses * o.photonsPerPass;
     pi.seconds = budget.elapsed();
     pi.meanRadius = meanRadius();

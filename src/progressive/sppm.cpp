@@ -1,11 +1,12 @@
 #include "progressive/sppm.h"
 
 #include "core/parallel.h"
+#include "integrators/registry.h"
 
 namespace pl {
 
-ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o,
-                                const CheckpointFn& checkpoint, PassInfo* info) {
+ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, RenderInfo* info) {
+  const ProgressiveOptions& o = o_;
   PassSetup setup(scene, io, o);
   const RenderOptions& ro = setup.image;
   const int W = setup.width, H = setup.height, threads = setup.threads;
@@ -28,7 +29,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-        if (o.spectral) beginPath(true, rng.uniform());
+        if (ro.spectral) beginPath(true, rng.uniform());
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
         if (vp.valid) {
@@ -40,7 +41,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
       }
     });
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, o.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;
     // 3. Gather at the visible points (direct light came from shadow rays); a pixel's pass is
     // complete, and counted, once its gather is done.
@@ -65,7 +66,13 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, con
     }
     return img;
   };
-  return runPasses(setup, o, checkpoint, info, pass, image, [&] { return meanRadius(stats); });
+  return runPasses(setup, o, info, pass, image, [&] { return meanRadius(stats); });
 }
+
+static const IntegratorRegistration registration({
+    "sppm", "stochastic progressive photon mapping (Hachisuka & Jensen 2009): new visible points every pass",
+    progressiveParams(),
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<SPPMIntegrator>(progressiveOptions(p)); },
+    resolveProgressiveRadius});
 
 }  // namespace pl

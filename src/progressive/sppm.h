@@ -9,10 +9,10 @@ namespace pl {
 // (N, R, τ) belong to the pixel and are updated with the PPM rules. Direct light is computed
 // at the visible point by a shadow ray each pass (averaged), so photon passes deposit only
 // photons that bounced at least once (caustic and indirect).
-class SPPMIntegrator final : public ProgressiveIntegrator {
+class SPPMIntegrator final : public PassIntegrator {
  public:
-  ImageRGB render(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options,
-                  const CheckpointFn& checkpoint, PassInfo* info) override;
+  using PassIntegrator::PassIntegrator;
+  ImageRGB render(const Scene& scene, const RenderOptions& image, RenderInfo* info) override;
   const char* name() const override { return "sppm"; }
 };
 

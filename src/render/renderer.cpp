@@ -45,7 +45,7 @@ class Progress {
 
 }  // namespace
 
-ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, RenderStats* stats) {
+ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions o, RenderInfo* stats) {
   Budget budget(o.timeLimit);  // started here: preprocessing counts towards the render time
   resolveResolution(scene.camera(), o);
   const int W = o.width, H = o.height;
@@ -72,16 +72,17 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
     }
     return image;
   };
-  auto fillStats = [&](RenderStats* st, bool last) {
+  auto fillStats = [&](RenderInfo* st, bool last) {
     PixelCounts counts = summarizeCounts(count);
     st->spp = counts.all;
-    st->meanSpp = counts.mean;
+    st->meanWork = counts.mean;
     st->seconds = budget.elapsed();
     st->nonFiniteSamples = 0;
     for (auto n : nonFinite) st->nonFiniteSamples += n;
     st->interrupted = interruptRequested();
     st->timeUp = budget.timeUp();
     st->last = last;
+    integrator.addInfo(scene, o, st);
   };
   integrator.preprocess(scene, o.seed, threads, budget);
   Progress progress(o.progress);
@@ -122,7 +123,7 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
     bool last = taken == target || budget.expired();
     if (o.checkpoint && (isCheckpoint(taken) || last)) {
       budget.excluding([&] {
-        RenderStats st;
+        RenderInfo st;
         fillStats(&st, last);
         o.checkpoint(estimate(), st);
       });
@@ -134,7 +135,7 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   // the render's last one.
   if (o.checkpoint && !finalCheckpoint) {
     budget.excluding([&] {
-      RenderStats st;
+      RenderInfo st;
       fillStats(&st, true);
       o.checkpoint(estimate(), st);
     });
@@ -143,4 +144,10 @@ ImageRGB render(const Scene& scene, Integrator& integrator, RenderOptions o, Ren
   return estimate();
 }
 
+}  // namespace pl
+
+namespace pl {
+ImageRGB PixelIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
+  return renderPixels(scene, *this, options, info);
+}
 }  // namespace pl

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "integrators/integrator.h"
+#include "integrators/registry.h"
 #include "photon/photon_tracer.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -22,13 +22,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   o.height = 4;
   o.spp = 1;
   o.threads = 1;
-  pl::IntegratorOptions io;
-  io.photons = 64;
-  io.causticPhotons = 64;
-  io.finalGather = 2;
   for (const char* name : {"path", "photon"}) {
-    auto integrator = pl::makeIntegrator(name, io);
-    pl::RenderStats stats;
+    pl::ParamSet params = pl::integratorEntry(name).defaults();
+    if (params.has("photons")) {
+      params.setNumber("photons", 64);
+      params.setNumber("caustic_photons", 64);
+      params.setNumber("final_gather", 2);
+    }
+    auto integrator = pl::makeIntegrator(name, params, o);
+    pl::RenderInfo stats;
     pl::ImageRGB image = pl::render(*scene, *integrator, o, &stats);
     for (float v : image.data)
       if (!std::isfinite(v)) std::abort();  // non-finite samples must be discarded, never reach the film

@@ -1,0 +1,92 @@
+// Declared integrator parameters. Each integrator lists what it takes (name, type, default,
+// valid range, one line of doc) in its own file (integrators/registry.h); the command line, the
+// experiment TOML, the reference-cache fingerprint, the images' metadata and README's tables
+// are all derived from those declarations, so they cannot disagree.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/common.h"
+
+namespace pl {
+
+enum class ParamType { Integer, Real, Choice };
+
+struct ParamSpec {
+  std::string name;  // TOML key; on the command line with '-' for '_' (max_depth: --max-depth)
+  ParamType type = ParamType::Integer;
+  std::string doc;
+  // The default as text; empty: "not given", which the integrator resolves itself (said in
+  // defaultDoc, e.g. "derived from the scene").
+  std::string defaultValue;
+  // The default in words for documentation: what an unset value means, or a plainer form of
+  // defaultValue ("2/3").
+  std::string defaultDoc;
+  double lo = 0, hi = 0;
+  bool openLow = false;                // the range is (lo, hi] instead of [lo, hi]
+  std::vector<std::string> choices;    // ParamType::Choice
+  // The render's budget in samples or passes: with a time budget and no value, unlimited.
+  bool budget = false;
+  // Written to the images' metadata under this key (default: name).
+  std::string metadataKey;
+
+  std::string flag() const;  // "--max-depth"
+  std::string range() const;  // "from 1 to 16777216", "in (0, 1]", "uniform, cone, ..."
+  const std::string& metaKey() const { return metadataKey.empty() ? name : metadataKey; }
+};
+
+// A parameter's value: a number for Integer and Real, text for Choice.
+struct ParamValue {
+  double number = 0;
+  std::string text;
+};
+
+// The parameters of one integrator: every declared one has a value (its default) or is unset.
+class ParamSet {
+ public:
+  ParamSet() = default;
+  explicit ParamSet(const std::vector<ParamSpec>* specs);
+
+  const std::vector<ParamSpec>& specs() const { return *specs_; }
+  const ParamSpec* spec(const std::string& name) const;
+  bool has(const std::string& name) const { return spec(name) != nullptr; }
+  bool isSet(const std::string& name) const { return values_.count(name) > 0; }
+
+  // Validated against the declaration; throws Error("what") without the key (callers prefix it:
+  // "--alpha: ", "FILE:LINE: run[1].alpha: "), with the same words from the CLI and from TOML.
+  void setText(const std::string& name, const std::string& text);  // command line
+  void setNumber(const std::string& name, double v);               // TOML numbers
+  void setChoice(const std::string& name, const std::string& v);   // TOML strings
+  void unset(const std::string& name) { values_.erase(name); }
+  // For scene-derived defaults (an integrator's resolve step): no validation.
+  void resolve(const std::string& name, double v) { values_[name].number = v; }
+
+  // Typed reads of a declared parameter; the unset ones read as 0 / "".
+  double real(const std::string& name) const;
+  int64_t integer(const std::string& name) const { return int64_t(real(name)); }
+  std::string choice(const std::string& name) const;
+
+  // "name=value" per set parameter, in declaration order (numbers as formatNumber writes them).
+  std::vector<std::pair<std::string, std::string>> items() const;
+  std::string format(const ParamSpec& spec) const;
+
+ private:
+  void check(const ParamSpec& s, double v) const;
+  const std::vector<ParamSpec>* specs_ = nullptr;
+  std::map<std::string, ParamValue> values_;
+};
+
+// The declarations several integrators share, written once.
+namespace params {
+ParamSpec maxDepth();
+ParamSpec spp();
+ParamSpec passes();
+ParamSpec photonsPerPass();
+ParamSpec alpha();
+ParamSpec progressiveRadius();
+}  // namespace params
+
+}  // namespace pl

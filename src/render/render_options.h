@@ -1,0 +1,73 @@
+// What every render takes (image size, seed, threads, budget, spectral film, checkpoints) and
+// what it reports, whatever the integrator.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "render/image.h"
+#include "scene/camera.h"
+
+namespace pl {
+
+struct RenderInfo;
+
+// Checkpoints fall after samples (or passes) 1, 2, 4, 8, ... and after the last.
+inline bool isCheckpoint(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+struct RenderOptions {
+  int width = 0, height = 0;  // 0: derived (see resolveResolution)
+  // Samples per pixel of the per-pixel and light-side loops (0: until the time budget ends);
+  // pass-based integrators count passes in their own parameters.
+  int spp = 16;
+  // Seconds; 0 = none. The render stops when it is spent, wherever it is (see core/budget.h):
+  // within a pixel's sample of it, or a chunk of photon paths, or a slice of the kd-tree build.
+  double timeLimit = 0.0;
+  uint64_t seed = 1;
+  int threads = 0;  // 0 = all cores
+  bool progress = false;
+  // --aov nan: instead of radiance, each pixel holds the fraction of its samples that were
+  // non-finite (NaN or ±Inf) and discarded; 0 everywhere in a healthy render.
+  bool nanAov = false;
+  // --spectral: paths carry wavelengths and the film integrates against the CIE 1931 curves
+  // (spectral/spectral.h).
+  bool spectral = false;
+  // Called with the estimate so far after 1, 2, 4, 8, ... samples (or passes) per pixel and
+  // after the last one; the time it takes is not counted in RenderInfo::seconds nor against
+  // timeLimit.
+  std::function<void(const ImageRGB&, const RenderInfo&)> checkpoint;
+};
+
+struct RenderInfo {
+  int spp = 0;             // samples every pixel has (per-pixel and light-side integrators)
+  int passes = 0;          // passes every pixel has (pass-based integrators)
+  double meanWork = 0.0;   // spp or passes per pixel on average: more than spp/passes when the
+                           // budget cut the last one short, after it reached some pixels
+  uint64_t photons = 0;    // photon (or light) paths emitted so far
+  double seconds = 0.0;    // the time actually spent (preprocessing included, checkpoints excluded)
+  double meanRadius = 0.0; // mean gather radius (photon-mapping integrators), 0 otherwise
+  uint64_t nonFiniteSamples = 0;  // discarded (counted as zero)
+  bool interrupted = false;       // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
+  bool timeUp = false;            // stopped because the time budget was spent
+  bool last = false;              // the render's final image
+};
+
+// Samples (or passes) per pixel after a render the budget may have cut mid-pass: what every
+// pixel has, and the mean.
+struct PixelCounts {
+  int all = 0;
+  double mean = 0.0;
+};
+inline PixelCounts summarizeCounts(const std::vector<uint32_t>& counts) {
+  if (counts.empty()) return {};
+  uint32_t lo = UINT32_MAX;
+  uint64_t total = 0;
+  for (uint32_t n : counts) lo = std::min(lo, n), total += n;
+  return {int(lo), double(total) / counts.size()};
+}
+
+// Width and height from the options and the camera: --width alone keeps the camera's aspect
+// ratio (square when the file gives none); neither gives 512 wide.
+void resolveResolution(const Camera& camera, RenderOptions& options);
+
+}  // namespace pl
