@@ -44,7 +44,7 @@ double chiSquareBsdf(const BSDF& bsdf, const Vec3& wo, uint64_t seed) {
   Rng rng(seed, 1);
   for (int i = 0; i < N; ++i) {
     BSDFSample s;
-    if (!bsdf.sample(wo, Vec2(0), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
+    if (!bsdf.sample(wo, BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Radiance), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
       continue;
     int ci = std::min(nCos - 1, int((s.wi.z + 1) / 2 * nCos));
     int pi = std::min(nPhi - 1, int(sphericalPhi(s.wi) / (2 * kPi) * nPhi));
@@ -81,10 +81,10 @@ TEST_CASE("a wrong pdf fails the chi-square test") {
   // Guard against a test that cannot fail: Phong whose pdf claims a different exponent.
   struct Liar final : BSDF {
     Phong sampler{Spectrum(0), Spectrum(1), 20}, claimed{Spectrum(0), Spectrum(1), 26};
-    Spectrum eval(const Vec3& o, const Vec3& i, const Vec2& uv) const override { return sampler.eval(o, i, uv); }
-    float pdf(const Vec3& o, const Vec3& i, const Vec2& uv) const override { return claimed.pdf(o, i, uv); }
-    bool sample(const Vec3& o, const Vec2& uv, const Vec2& u, float uc, TransportMode m, BSDFSample* s) const override {
-      return sampler.sample(o, uv, u, uc, m, s);
+    Spectrum eval(const Vec3& o, const Vec3& i, const BSDFContext& c) const override { return sampler.eval(o, i, c); }
+    float pdf(const Vec3& o, const Vec3& i, const BSDFContext& c) const override { return claimed.pdf(o, i, c); }
+    bool sample(const Vec3& o, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override {
+      return sampler.sample(o, c, u, uc, s);
     }
     const char* name() const override { return "liar"; }
   } liar;
@@ -97,7 +97,7 @@ TEST_CASE("BSDF sample weight equals f·cosθ/pdf") {
     for (int i = 0; i < 2000; ++i) {
       Vec3 wo = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
       BSDFSample s;
-      if (!c.bsdf->sample(wo, Vec2(0), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &s))
+      if (!c.bsdf->sample(wo, BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Radiance), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
         continue;
       float pdf = c.bsdf->pdf(wo, s.wi, Vec2(0));
       Spectrum expected = c.bsdf->eval(wo, s.wi, Vec2(0)) * std::abs(s.wi.z) / pdf;
@@ -163,7 +163,7 @@ TEST_CASE("mirror reflects by R = 2(N·L)N − L with Schlick reflectance") {
   Mirror m(ColorTexture(Spectrum(0.9f, 0.5f, 0.2f)));
   Vec3 wo = glm::normalize(Vec3(0.3f, 0.2f, 0.6f));
   BSDFSample s;
-  REQUIRE(m.sample(wo, Vec2(0), Vec2(0.3f), 0.5f, TransportMode::Radiance, &s));
+  REQUIRE(m.sample(wo, BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Radiance), Vec2(0.3f), 0.5f, &s));
   Vec3 R = reflect(wo, Vec3(0, 0, 1));
   CHECK(s.wi.x == Approx(R.x));
   CHECK(s.wi.z == Approx(R.z));
@@ -182,7 +182,7 @@ TEST_CASE("dielectric: reflects with probability F - refracts by Snell - TIR ins
     const int N = 200000;
     for (int i = 0; i < N; ++i) {
       BSDFSample s;
-      REQUIRE(glass.sample(wo, Vec2(0), Vec2(0.5f), rng.uniform(), TransportMode::Radiance, &s));
+      REQUIRE(glass.sample(wo, BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Radiance), Vec2(0.5f), rng.uniform(), &s));
       if (s.wi.z > 0) {
         ++reflected;
       } else {
@@ -201,11 +201,11 @@ TEST_CASE("dielectric: reflects with probability F - refracts by Snell - TIR ins
   Vec3 inside = direction(-std::cos(glm::radians(50.0f)), 0.0f);
   for (int i = 0; i < 100; ++i) {
     BSDFSample s;
-    REQUIRE(glass.sample(inside, Vec2(0), Vec2(0.5f), rng.uniform(), TransportMode::Radiance, &s));
+    REQUIRE(glass.sample(inside, BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Radiance), Vec2(0.5f), rng.uniform(), &s));
     REQUIRE(s.wi.z < 0);
   }
   // Flux (importance transport) is not scaled by 1/η².
   BSDFSample s;
-  REQUIRE(glass.sample(direction(1.0f, 0), Vec2(0), Vec2(0.5f), 0.99f, TransportMode::Importance, &s));
+  REQUIRE(glass.sample(direction(1.0f, 0), BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Importance), Vec2(0.5f), 0.99f, &s));
   CHECK(s.weight.r == 1.0f);
 }

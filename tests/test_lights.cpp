@@ -26,7 +26,7 @@ double integrateIntensity(const Light& light, const Vec3& position) {
       float c = -1 + 2 * (i + 0.5f) / nCos, phi = 2 * kPi * (j + 0.5f) / nPhi, s = std::sqrt(1 - c * c);
       Vec3 w(s * std::cos(phi), c, s * std::sin(phi));
       LightSample ls;
-      if (light.sampleLi(position + r * w, Vec2(0.5f), &ls)) sum += ls.Li.g * r * r;
+      if (light.sampleLi(position + r * w, Vec2(0.5f), SampledWavelengths::rgb(), &ls)) sum += ls.Li.g * r * r;
     }
   return sum * (2.0 / nCos) * (2 * kPi / nPhi);
 }
@@ -35,7 +35,7 @@ double meanEmittedFlux(const Light& light, int N) {
   Rng rng(11, 0);
   double sum = 0;
   for (int i = 0; i < N; ++i)
-    sum += light.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform())).flux.g;
+    sum += light.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()), SampledWavelengths::rgb()).flux.g;
   return sum / N;
 }
 
@@ -47,7 +47,7 @@ double emittedDirectionPValue(const Light& light, const Vec3& position, const Ve
   Rng rng(12, 0);
   double total = 0;
   for (int i = 0; i < N; ++i) {
-    EmittedRay e = light.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()));
+    EmittedRay e = light.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()), SampledWavelengths::rgb());
     float c = glm::dot(e.ray.d, axis);
     int b = std::min(bins - 1, int((c + 1) / 2 * bins));
     // Photons of unequal flux: count each in proportion to its flux (mean flux normalises).
@@ -63,7 +63,7 @@ double emittedDirectionPValue(const Light& light, const Vec3& position, const Ve
       float s = std::sqrt(1 - c * c);
       LightSample ls;
       Vec3 w = c * axis + s * glm::normalize(glm::cross(axis, Vec3(0.3f, 0.1f, 0.9f)));
-      if (light.sampleLi(position + 2.0f * w, Vec2(0.5f), &ls)) sum += ls.Li.g * 4.0f * 2 * kPi;
+      if (light.sampleLi(position + 2.0f * w, Vec2(0.5f), SampledWavelengths::rgb(), &ls)) sum += ls.Li.g * 4.0f * 2 * kPi;
     }
     expected[b] = N * (sum / sub) * (2.0 / bins) / light.power().g;
   }
@@ -78,7 +78,7 @@ TEST_CASE("isotropic point light: I = Φ/4π - ∫ I dω = Φ - photons carry Φ
   CHECK(light.power().g == Approx(100.0f));
   CHECK(integrateIntensity(light, p) == Approx(100.0).epsilon(1e-3));
   LightSample ls;
-  REQUIRE(light.sampleLi(p + Vec3(0, -2, 0), Vec2(0.5f), &ls));
+  REQUIRE(light.sampleLi(p + Vec3(0, -2, 0), Vec2(0.5f), SampledWavelengths::rgb(), &ls));
   CHECK(ls.Li.g == Approx(100.0f / (4 * kPi) / 4.0f));  // I / r²
   CHECK(meanEmittedFlux(light, 1000) == Approx(100.0));
   CHECK(emittedDirectionPValue(light, p, Vec3(0, 1, 0)) > 1e-3);
@@ -128,7 +128,7 @@ TEST_CASE("area light: Φ = π·L·A - photons' mean flux is Φ - directions cos
   Rng rng(2, 2);
   std::vector<double> obs(10, 0), exp(10, 0);
   for (int i = 0; i < 100000; ++i) {
-    EmittedRay e = one.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()));
+    EmittedRay e = one.sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()), SampledWavelengths::rgb());
     float cosTheta = glm::dot(e.ray.d, one.normal());
     REQUIRE(cosTheta >= 0.0f);
     obs[std::min(9, int(cosTheta * 10))] += 1;
@@ -136,8 +136,8 @@ TEST_CASE("area light: Φ = π·L·A - photons' mean flux is Φ - directions cos
   for (int k = 0; k < 10; ++k) exp[k] = 100000 * (std::pow((k + 1) / 10.0, 2) - std::pow(k / 10.0, 2));
   CHECK(test::chiSquarePValue(obs, exp) > 1e-3);
   // One-sided: nothing is emitted from the back.
-  CHECK(one.L(Vec3(0, 1, 0)).g == 0.0f);
-  CHECK(two.L(Vec3(0, 1, 0)).g == 3.0f);
+  CHECK(one.L(Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 0.0f);
+  CHECK(two.L(Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 3.0f);
 }
 
 TEST_CASE("area light sampling reproduces Lambert's irradiance formula for a polygon") {
@@ -158,7 +158,7 @@ TEST_CASE("area light sampling reproduces Lambert's irradiance formula for a pol
     for (int i = 0; i < N; ++i) {
       const AreaLight& t = i % 2 ? t1 : t0;  // both halves, half the samples each
       LightSample ls;
-      if (t.sampleLi(x, Vec2(rng.uniform(), rng.uniform()), &ls)) sum += 2.0 * ls.Li.g * glm::dot(ls.wi, n) / ls.pdf;
+      if (t.sampleLi(x, Vec2(rng.uniform(), rng.uniform()), SampledWavelengths::rgb(), &ls)) sum += 2.0 * ls.Li.g * glm::dot(ls.wi, n) / ls.pdf;
     }
     CHECK(sum / N == Approx(lambert).epsilon(5e-3));
   }

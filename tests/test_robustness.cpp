@@ -53,9 +53,9 @@ std::string readBytes(const std::string& path) {
 // A BSDF whose every value is NaN: a stand-in for a buggy or numerically broken material.
 class NaNBSDF : public BSDF {
  public:
-  Spectrum eval(const Vec3&, const Vec3&, const Vec2&) const override { return Spectrum(NAN); }
-  float pdf(const Vec3&, const Vec3&, const Vec2&) const override { return NAN; }
-  bool sample(const Vec3&, const Vec2&, const Vec2& u, float, TransportMode, BSDFSample* s) const override {
+  Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(NAN); }
+  float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return NAN; }
+  bool sample(const Vec3&, const BSDFContext&, const Vec2& u, float, BSDFSample* s) const override {
     s->wi = Vec3(0, 0, 1);
     s->weight = Spectrum(NAN);
     s->pdf = NAN;

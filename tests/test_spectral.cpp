@@ -69,15 +69,13 @@ TEST_CASE("spectral: the RGB uplift returns the same RGB over the whole gamut - 
 
 TEST_CASE("spectral: the film's wavelength estimator is unbiased - emission round trips to its RGB") {
   // Stratified λ over the whole range: the average of the film's estimate is the integral.
-  SpectralContext& ctx = spectralContext();
   for (Vec3 rgb : {Vec3(1, 1, 1), Vec3(0.9f, 0.2f, 0.05f), Vec3(0.1f, 0.5f, 2.0f)}) {
     Vec3 sum(0.0f);
     const int N = 20000;
     for (int i = 0; i < N; ++i) {
-      beginPath(true, (i + 0.5f) / N);
-      sum += spectralToRGB(spectralEmission(rgb), ctx.lambda);
+      SampledWavelengths ctx = SampledWavelengths::sample((i + 0.5f) / N);
+      sum += spectralToRGB(spectralEmission(rgb, ctx), ctx.lambda);
     }
-    ctx.active = false;
     Vec3 mean = sum / float(N);
     INFO(rgb.x << " " << rgb.y << " " << rgb.z);
     for (int k = 0; k < 3; ++k) CHECK(mean[k] == Approx(rgb[k]).margin(2e-3 * std::max(1.0f, rgb[k])));
@@ -91,18 +89,16 @@ TEST_CASE("spectral: the film's wavelength estimator is unbiased - emission roun
 
 TEST_CASE("spectral: the illuminants as emitters - D65 is white - E and a blackbody keep their luminance") {
   // Through the film, each emitter's spectrum gives back the sRGB colour RGB mode uses.
-  SpectralContext& ctx = spectralContext();
   const int N = 20000;
   LazySpectrum::Table E, B;
   equalEnergyTable(&E);
   blackbodyTable(3200, &B);
   Vec3 e(0.0f), bb(0.0f);
   for (int i = 0; i < N; ++i) {
-    beginPath(true, (i + 0.5f) / N);
+    SampledWavelengths ctx = SampledWavelengths::sample((i + 0.5f) / N);
     e += spectralToRGB(LazySpectrum::at(E, ctx.lambda), ctx.lambda);
     bb += spectralToRGB(LazySpectrum::at(B, ctx.lambda), ctx.lambda);
   }
-  ctx.active = false;
   e /= float(N);
   bb /= float(N);
   Vec3 eRGB = equalEnergyRGB(), bbRGB = blackbodyRGB(3200);
@@ -141,28 +137,27 @@ TEST_CASE("spectral: Cauchy's index from n_d and the Abbe number - Snell's law p
   CHECK(glass.eta(587.56f) == Approx(1.6f).epsilon(1e-6));
   CHECK((glass.eta(587.56f) - 1) / (glass.eta(486.13f) - glass.eta(656.27f)) == Approx(20.0f).epsilon(1e-4));
   CHECK(glass.eta(400.0f) > glass.eta(700.0f));  // normal dispersion: blue bends more
-  SpectralContext& ctx = spectralContext();
   for (float lambda : {420.0f, 550.0f, 680.0f}) {
-    ctx.active = true;
-    ctx.heroOnly = false;
+    SampledWavelengths ctx;
+    ctx.spectral = true;
     ctx.lambda = Vec3(lambda, 500.0f, 600.0f);
     float thetaI = 0.6f;
     Vec3 wo(std::sin(thetaI), 0.0f, std::cos(thetaI));
     BSDFSample s;
-    REQUIRE(glass.sample(wo, Vec2(0), Vec2(0), 0.9999f, TransportMode::Importance, &s));  // uc ≥ F: refraction
+    REQUIRE(glass.sample(wo, BSDFContext(Vec2(0), ctx, TransportMode::Importance), Vec2(0), 0.9999f, &s));  // uc ≥ F: refraction
     float sinT = std::sqrt(s.wi.x * s.wi.x + s.wi.y * s.wi.y);
     CHECK(std::sin(thetaI) == Approx(glass.eta(lambda) * sinT).epsilon(1e-5));  // Snell at the hero λ
     CHECK(s.weight.x == Approx(3.0f));  // the hero carries the three wavelengths' share
     CHECK(s.weight.y == 0.0f);
-    CHECK(ctx.heroOnly);
+    CHECK(s.terminatesSecondary);  // the caller's path follows the hero alone from here on
+    ctx.terminateSecondary();
     BSDFSample again;  // a second dispersive interface does not scale again
-    REQUIRE(glass.sample(-s.wi, Vec2(0), Vec2(0), 0.9999f, TransportMode::Importance, &again));
+    REQUIRE(glass.sample(-s.wi, BSDFContext(Vec2(0), ctx, TransportMode::Importance), Vec2(0), 0.9999f, &again));
     CHECK(again.weight.x == Approx(1.0f));
   }
-  ctx.active = false;
   // RGB mode: no dispersion, no hero.
   BSDFSample s;
-  REQUIRE(glass.sample(Vec3(0.5f, 0, std::sqrt(0.75f)), Vec2(0), Vec2(0), 0.9999f, TransportMode::Importance, &s));
+  REQUIRE(glass.sample(Vec3(0.5f, 0, std::sqrt(0.75f)), BSDFContext(Vec2(0), SampledWavelengths::rgb(), TransportMode::Importance), Vec2(0), 0.9999f, &s));
   CHECK(s.weight.x == Approx(1.0f));
   CHECK(s.weight.y == Approx(1.0f));
 }
@@ -179,7 +174,6 @@ TEST_CASE("spectral: a ray through the prism at minimum deviation turns by 2 asi
   scene.addLight(std::make_unique<PointLight>(Vec3(0, 5, 0), Spectrum(1.0f)));
   scene.setCamera(lookingDown(3.0f));
   scene.commit();
-  SpectralContext& ctx = spectralContext();
   for (float lambda : {430.0f, 550.0f, 650.0f}) {
     float n = Dielectric(1.6f, 20.0f).eta(lambda);
     float deltaMin = 2 * std::asin(n * std::sin(A / 2)) - A;
@@ -188,17 +182,17 @@ TEST_CASE("spectral: a ray through the prism at minimum deviation turns by 2 asi
     Vec3 d(std::cos(heading), std::sin(heading), 0.0f);
     Vec3 target = (a + c) * 0.5f;
     Ray ray{target - 2.0f * d, d};
-    ctx.active = true;
-    ctx.heroOnly = false;
+    SampledWavelengths ctx;
+    ctx.spectral = true;
     ctx.lambda = Vec3(lambda, 500, 600);
     for (int bounce = 0; bounce < 2; ++bounce) {
       SurfaceHit hit;
       REQUIRE(scene.intersect(ray, &hit));
       BSDFSample bs;
-      REQUIRE(hit.bsdf->sample(hit.shading.toLocal(-ray.d), hit.uv, Vec2(0), 0.99999f, TransportMode::Importance, &bs));
+      REQUIRE(hit.bsdf->sample(hit.shading.toLocal(-ray.d), BSDFContext(hit.uv, ctx, TransportMode::Importance), Vec2(0), 0.99999f, &bs));
+      if (bs.terminatesSecondary) ctx.terminateSecondary();
       ray = scene.spawnRay(hit, hit.shading.toWorld(bs.wi));
     }
-    ctx.active = false;
     float deviation = std::acos(glm::clamp(glm::dot(d, ray.d), -1.0f, 1.0f));
     INFO("λ = " << lambda << " nm, n = " << n);
     CHECK(deviation == Approx(deltaMin).epsilon(1e-4));

@@ -4,6 +4,7 @@
 // f·|cosθi|/pdf so that an estimator multiplies by it directly.
 #pragma once
 #include "core/common.h"
+#include "spectral/spectral.h"
 
 namespace pl {
 
@@ -11,21 +12,36 @@ namespace pl {
 // Refraction compresses radiance by 1/η² but not flux, so the two modes differ there.
 enum class TransportMode { Radiance, Importance };
 
+// Where and how a BSDF is evaluated: the texture coordinates, the path's wavelengths and the
+// quantity transported. From a bare uv: RGB and radiance (tests, RGB-only gathers).
+struct BSDFContext {
+  Vec2 uv{0.0f};
+  const SampledWavelengths* lambda = &SampledWavelengths::rgb();
+  TransportMode mode = TransportMode::Radiance;
+
+  BSDFContext() = default;
+  BSDFContext(const Vec2& uv) : uv(uv) {}  // NOLINT: implicit on purpose
+  BSDFContext(const Vec2& uv, const SampledWavelengths& lambda, TransportMode mode = TransportMode::Radiance)
+      : uv(uv), lambda(&lambda), mode(mode) {}
+};
+
 struct BSDFSample {
   Vec3 wi;
   Spectrum weight;   // f·|cosθi| / pdf
   float pdf = 0.0f;  // solid angle; for delta lobes the discrete probability of the lobe
   bool delta = false;
+  // A dispersive refraction: the caller's path follows the hero wavelength alone from here on
+  // (SampledWavelengths::terminateSecondary); `weight` already holds the hero's ×3.
+  bool terminatesSecondary = false;
 };
 
 class BSDF {
  public:
   virtual ~BSDF() = default;
-  virtual Spectrum eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const = 0;
-  virtual float pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const = 0;
+  virtual Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const = 0;
+  virtual float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const = 0;
   // u: 2D sample for the direction, uc: 1D sample for choosing a lobe.
-  virtual bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-                      BSDFSample* s) const = 0;
+  virtual bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const = 0;
   // True when every lobe is a Dirac delta (mirror, smooth glass): eval and pdf are zero, only
   // sample() can find the reflected/refracted direction.
   virtual bool isDelta() const { return false; }
@@ -37,6 +53,17 @@ class BSDF {
  protected:
   bool lambertian_ = false;
 };
+
+// Veach's adjoint correction for shading normals (Veach 1997, §5.3; pbrt-v3 §16.1): a BSDF
+// evaluated with an interpolated shading normal is not symmetric for importance. Light paths
+// (TransportMode::Importance) scattered from wo (towards the light side) into wi multiply f·|cos|
+// by |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|); ngLocal is the geometric normal in the shading frame
+// (ns = z). Radiance needs none: returns 1.
+inline float shadingNormalCorrection(const Vec3& wo, const Vec3& wi, const Vec3& ngLocal, TransportMode mode) {
+  if (mode == TransportMode::Radiance) return 1.0f;
+  float denominator = std::abs(glm::dot(wo, ngLocal)) * std::abs(wi.z);
+  return denominator > 0 ? std::abs(wo.z) * std::abs(glm::dot(wi, ngLocal)) / denominator : 0.0f;
+}
 
 // Reflection-only BSDFs reflect from both sides: evaluate on the side wo is on.
 inline bool flipToUpperHemisphere(Vec3& wo, Vec3& wi) {

@@ -14,18 +14,19 @@ Dielectric::Dielectric(float eta, float abbe) : eta_(eta), abbe_(abbe) {
   }
 }
 
-bool Dielectric::sample(const Vec3& wo, const Vec2&, const Vec2&, float uc, TransportMode mode,
-                        BSDFSample* s) const {
+bool Dielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float uc, BSDFSample* s) const {
   if (wo.z == 0) return false;
   float eta = eta_;
   Spectrum heroScale(1.0f);
-  SpectralContext& ctx = spectralContext();
-  if (cauchyB_ != 0.0f && ctx.active) {
-    // The index depends on λ: follow the hero wavelength alone from here on. Its value is
-    // scaled by 3, the other two dropped, which keeps the film's estimate unbiased.
-    eta = this->eta(ctx.lambda.x);
-    if (!ctx.heroOnly) heroScale = Spectrum(3.0f, 0.0f, 0.0f);
-    ctx.heroOnly = true;
+  const SampledWavelengths& lambda = *c.lambda;
+  s->terminatesSecondary = false;
+  if (cauchyB_ != 0.0f && lambda.spectral) {
+    // The index depends on λ: follow the hero wavelength alone from here on (the caller ends the
+    // secondary wavelengths). Its value is scaled by 3, the other two dropped, which keeps the
+    // film's estimate unbiased.
+    eta = this->eta(lambda.lambda.x);
+    if (!lambda.heroOnly) heroScale = Spectrum(3.0f, 0.0f, 0.0f);
+    s->terminatesSecondary = true;
   }
   float F = fresnelDielectric(wo.z, eta);
   s->delta = true;
@@ -42,7 +43,7 @@ bool Dielectric::sample(const Vec3& wo, const Vec2&, const Vec2&, float uc, Tran
   if (!refract(wo, n, etaRel, &s->wi)) return false;  // cannot happen when F < 1
   // Radiance is compressed by (η_i/η_t)² crossing into the denser medium (pbrt §8.2);
   // flux carried by photons is not.
-  float scale = mode == TransportMode::Radiance ? 1.0f / (etaRel * etaRel) : 1.0f;
+  float scale = c.mode == TransportMode::Radiance ? 1.0f / (etaRel * etaRel) : 1.0f;
   s->weight = scale * heroScale;
   s->pdf = 1.0f - F;
   return true;

@@ -14,10 +14,9 @@ namespace pl {
 class Dielectric final : public BSDF {
  public:
   explicit Dielectric(float eta, float abbe = 0.0f);
-  Spectrum eval(const Vec3&, const Vec3&, const Vec2&) const override { return Spectrum(0.0f); }
-  float pdf(const Vec3&, const Vec3&, const Vec2&) const override { return 0.0f; }
-  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-              BSDFSample* s) const override;
+  Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(0.0f); }
+  float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return 0.0f; }
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   bool isDelta() const override { return true; }
   const char* name() const override { return "dielectric"; }
   float eta() const { return eta_; }

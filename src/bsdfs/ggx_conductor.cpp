@@ -19,15 +19,15 @@ float GGXConductor::G1(const Vec3& v) const {
   return 2.0f / (1.0f + std::sqrt(1.0f + alpha_ * alpha_ * tan2));
 }
 
-Spectrum GGXConductor::eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const {
+Spectrum GGXConductor::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
   Vec3 m = glm::normalize(o + i);
-  Spectrum F = fresnelSchlick(F0_.eval(uv), glm::dot(o, m));
+  Spectrum F = fresnelSchlick(F0_.eval(c.uv, *c.lambda), glm::dot(o, m));
   return F * (D(m) * G1(o) * G1(i) / (4.0f * o.z * i.z));
 }
 
-float GGXConductor::pdf(const Vec3& wo, const Vec3& wi, const Vec2&) const {
+float GGXConductor::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return 0.0f;
   Vec3 m = glm::normalize(o + i);
@@ -35,8 +35,7 @@ float GGXConductor::pdf(const Vec3& wo, const Vec3& wi, const Vec2&) const {
   return D(m) * m.z / (4.0f * std::abs(glm::dot(o, m)));
 }
 
-bool GGXConductor::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float, TransportMode,
-                          BSDFSample* s) const {
+bool GGXConductor::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float, BSDFSample* s) const {
   Vec3 o = wo;
   if (o.z == 0) return false;
   if (o.z < 0) o.z = -o.z;
@@ -48,9 +47,9 @@ bool GGXConductor::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float, 
   Vec3 m(sinThetaM * sc.y, sinThetaM * sc.x, cosThetaM);
   Vec3 wi = reflect(o, m);
   if (wi.z <= 0) return false;
-  s->pdf = pdf(o, wi, uv);
+  s->pdf = pdf(o, wi, c);
   if (s->pdf <= 0) return false;
-  s->weight = eval(o, wi, uv) * wi.z / s->pdf;
+  s->weight = eval(o, wi, c) * wi.z / s->pdf;
   if (wo.z < 0) wi.z = -wi.z;
   s->wi = wi;
   s->delta = false;

@@ -11,10 +11,9 @@ namespace pl {
 class GGXConductor final : public BSDF {
  public:
   GGXConductor(ColorTexture F0, float alpha) : F0_(std::move(F0)), alpha_(std::max(alpha, 1e-4f)) {}
-  Spectrum eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  float pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-              BSDFSample* s) const override;
+  Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "ggx"; }
 
   float D(const Vec3& m) const;

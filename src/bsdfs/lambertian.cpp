@@ -4,27 +4,26 @@
 
 namespace pl {
 
-Spectrum Lambertian::eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const {
+Spectrum Lambertian::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
-  return albedo_.eval(uv) * kInvPi;
+  return albedo_.eval(c.uv, *c.lambda) * kInvPi;
 }
 
-float Lambertian::pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const {
+float Lambertian::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return 0.0f;
   return pdfCosineHemisphere(i);
 }
 
-bool Lambertian::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float, TransportMode,
-                        BSDFSample* s) const {
+bool Lambertian::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float, BSDFSample* s) const {
   if (wo.z == 0) return false;
   Vec3 wi = sampleCosineHemisphere(u);
   s->pdf = pdfCosineHemisphere(wi);
   if (s->pdf <= 0) return false;
   if (wo.z < 0) wi.z = -wi.z;
   s->wi = wi;
-  s->weight = albedo_.eval(uv);  // (ρ/π)·cosθ / (cosθ/π)
+  s->weight = albedo_.eval(c.uv, *c.lambda);  // (ρ/π)·cosθ / (cosθ/π)
   s->delta = false;
   return true;
 }

@@ -8,10 +8,9 @@ namespace pl {
 class Lambertian final : public BSDF {
  public:
   explicit Lambertian(ColorTexture albedo) : albedo_(std::move(albedo)) { lambertian_ = true; }
-  Spectrum eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  float pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-              BSDFSample* s) const override;
+  Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "lambertian"; }
 
  private:

@@ -4,10 +4,10 @@
 
 namespace pl {
 
-bool Mirror::sample(const Vec3& wo, const Vec2& uv, const Vec2&, float, TransportMode, BSDFSample* s) const {
+bool Mirror::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float, BSDFSample* s) const {
   if (wo.z == 0) return false;
   s->wi = reflect(wo, Vec3(0, 0, wo.z > 0 ? 1.0f : -1.0f));
-  s->weight = fresnelSchlick(F0_.eval(uv), wo.z);
+  s->weight = fresnelSchlick(F0_.eval(c.uv, *c.lambda), wo.z);
   s->pdf = 1.0f;
   s->delta = true;
   return true;

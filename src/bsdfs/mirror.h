@@ -9,10 +9,9 @@ namespace pl {
 class Mirror final : public BSDF {
  public:
   explicit Mirror(ColorTexture F0) : F0_(std::move(F0)) {}
-  Spectrum eval(const Vec3&, const Vec3&, const Vec2&) const override { return Spectrum(0.0f); }
-  float pdf(const Vec3&, const Vec3&, const Vec2&) const override { return 0.0f; }
-  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-              BSDFSample* s) const override;
+  Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(0.0f); }
+  float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return 0.0f; }
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   bool isDelta() const override { return true; }
   const char* name() const override { return "mirror"; }
 

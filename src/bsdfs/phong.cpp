@@ -15,7 +15,7 @@ static float cosAlpha(const Vec3& wo, const Vec3& wi) {
   return glm::dot(reflect(wo, Vec3(0, 0, 1)), wi);
 }
 
-Spectrum Phong::eval(const Vec3& wo, const Vec3& wi, const Vec2&) const {
+Spectrum Phong::eval(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
   float ca = cosAlpha(o, i);
@@ -23,15 +23,14 @@ Spectrum Phong::eval(const Vec3& wo, const Vec3& wi, const Vec2&) const {
   return kd_ * kInvPi + ks_ * lobe;
 }
 
-float Phong::pdf(const Vec3& wo, const Vec3& wi, const Vec2&) const {
+float Phong::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return 0.0f;
   return diffuseProbability_ * pdfCosineHemisphere(i) +
          (1 - diffuseProbability_) * pdfPowerCosine(cosAlpha(o, i), n_);
 }
 
-bool Phong::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode,
-                   BSDFSample* s) const {
+bool Phong::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const {
   Vec3 o = wo;
   if (o.z == 0) return false;
   if (o.z < 0) o.z = -o.z;
@@ -43,9 +42,9 @@ bool Phong::sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, Tran
     wi = lobe.toWorld(samplePowerCosine(u, n_));
     if (wi.z <= 0) return false;  // the lobe dips below the horizon: no contribution
   }
-  s->pdf = pdf(o, wi, uv);
+  s->pdf = pdf(o, wi, c);
   if (s->pdf <= 0) return false;
-  s->weight = eval(o, wi, uv) * wi.z / s->pdf;
+  s->weight = eval(o, wi, c) * wi.z / s->pdf;
   if (wo.z < 0) wi.z = -wi.z;
   s->wi = wi;
   s->delta = false;

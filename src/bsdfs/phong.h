@@ -11,10 +11,9 @@ namespace pl {
 class Phong final : public BSDF {
  public:
   Phong(const Spectrum& kd, const Spectrum& ks, float exponent);
-  Spectrum eval(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  float pdf(const Vec3& wo, const Vec3& wi, const Vec2& uv) const override;
-  bool sample(const Vec3& wo, const Vec2& uv, const Vec2& u, float uc, TransportMode mode,
-              BSDFSample* s) const override;
+  Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "phong"; }
 
  private:

@@ -4,12 +4,12 @@
 
 namespace pl {
 
-Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, Rng& rng) const {
+Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return Spectrum(0.0f);
   Spectrum L(0.0f);
-  if (hit.light) L += hit.light->L(-ray.d);
-  if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), rng, false);
+  if (hit.light) L += hit.light->L(-ray.d, lambda);
+  if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), lambda, rng, false);
   return L;
 }
 

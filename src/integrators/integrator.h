@@ -12,6 +12,7 @@
 
 #include "core/budget.h"
 #include "core/rng.h"
+#include "render/film.h"
 #include "render/render_options.h"
 #include "scene/scene.h"
 
@@ -34,17 +35,45 @@ class PixelIntegrator : public Integrator {
   // Work done once before the first sample (photon tracing). Deterministic for a seed. It polls
   // the render's budget: when that expires the render stops, whatever preprocess() has left.
   virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
-  // Radiance arriving along a camera ray.
-  virtual Spectrum Li(const Ray& ray, const Scene& scene, Rng& rng) const = 0;
+  // Radiance arriving along a camera ray, at the path's wavelengths (RGB unless spectral). A
+  // dispersive refraction on the way ends the secondary wavelengths in `lambda`.
+  virtual Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const = 0;
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
 };
 
+// What a light path is traced with: its wavelengths, its random stream, and the film it splats
+// onto (through splat(), which turns a spectral value into RGB).
+struct LightPathContext {
+  int width, height;
+  SampledWavelengths lambda;
+  Rng rng;
+  SplatBuffer* splats;
+  // A contribution at film position `raster` (pixels), in the film's units (see LightPathIntegrator).
+  void splat(const Vec2& raster, const Spectrum& value) {
+    splats->add(raster, width, lambda.spectral ? spectralToRGB(value, lambda.lambda) : value);
+  }
+};
+
+// Light-side integrators: paths start at the lights and splat onto the film. Iteration s traces
+// W·H paths (one per pixel on average, so that `spp` buys the same number of paths as a camera-
+// side integrator's); path i of it draws from the stream keyed by (seed, i, s). A path's
+// contribution C to pixel j is an estimate of W·H times pixel j's share of the film's mean
+// radiance (scene/camera.h), so after n iterations pixel j is Σ C / n. An iteration the budget
+// cuts short is dropped whole: a part of one would brighten some regions only.
+class LightPathIntegrator : public Integrator {
+ public:
+  virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
+  virtual void traceLightPath(const Scene& scene, LightPathContext& path) const = 0;
+  ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // render/light_loop.cpp
+};
+
 // Next-event estimation at a non-delta surface point: one light chosen by power, one point on
 // it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by
 // the power heuristic against BSDF sampling (Veach 1997); delta lights always get weight 1.
-Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, Rng& rng, bool mis);
+Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
+                        Rng& rng, bool mis);
 
 // Power heuristic with β = 2.
 inline float powerHeuristic(float pdfA, float pdfB) {

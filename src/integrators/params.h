@@ -16,6 +16,9 @@ namespace pl {
 enum class ParamType { Integer, Real, Choice };
 
 struct ParamSpec {
+  ParamSpec(std::string name, ParamType type, std::string doc, std::string defaultValue = "")
+      : name(std::move(name)), type(type), doc(std::move(doc)), defaultValue(std::move(defaultValue)) {}
+
   std::string name;  // TOML key; on the command line with '-' for '_' (max_depth: --max-depth)
   ParamType type = ParamType::Integer;
   std::string doc;

@@ -4,7 +4,7 @@
 
 namespace pl {
 
-Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) const {
+Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
   Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
   Ray ray = cameraRay;
   bool specularBounce = true;  // the camera ray counts as "specular": emitters get full weight
@@ -17,7 +17,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) 
     // Emission found by BSDF sampling; next-event estimation already counted the same light
     // from the previous vertex, so weight both by MIS.
     if (hit.light) {
-      Spectrum Le = hit.light->L(-ray.d);
+      Spectrum Le = hit.light->L(-ray.d, lambda);
       if (specularBounce) {
         L += beta * Le;
       } else if (!isBlack(Le)) {
@@ -28,11 +28,12 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) 
     if (depth >= maxDepth_) break;
 
     Vec3 wo = hit.shading.toLocal(-ray.d);
-    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, rng, true);
+    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, lambda, rng, true);
 
     BSDFSample bs;
     Vec2 u(rng.uniform(), rng.uniform());
-    if (!hit.bsdf->sample(wo, hit.uv, u, rng.uniform(), TransportMode::Radiance, &bs)) break;
+    if (!hit.bsdf->sample(wo, BSDFContext(hit.uv, lambda), u, rng.uniform(), &bs)) break;
+    if (bs.terminatesSecondary) lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);
     // Reject directions that the shading normal allows but the geometry does not (light leaks).
     bool transmitted = bs.wi.z * wo.z < 0;

@@ -59,18 +59,20 @@ double PhotonIntegrator::meanGatherRadius(const Scene& scene, int width, int hei
 
 // Caustics (L S+ D) at x: from the caustic map, or, without one, from the global map's photons
 // flagged as caustic.
-Spectrum PhotonIntegrator::causticRadiance(const SurfaceHit& hit, const Vec3& wo) const {
-  if (o_.causticPhotons > 0) return maps_.caustic.radiance(hit, wo, o_.density, Photon::kAcceptAll);
-  return maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptCaustic);
+Spectrum PhotonIntegrator::causticRadiance(const SurfaceHit& hit, const Vec3& wo, const SampledWavelengths& lambda) const {
+  if (o_.causticPhotons > 0) return maps_.caustic.radiance(hit, wo, lambda, o_.density, Photon::kAcceptAll);
+  return maps_.global.radiance(hit, wo, lambda, o_.density, Photon::kAcceptCaustic);
 }
 
-Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, Rng& rng) const {
+Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, SampledWavelengths& lambda,
+                                       Rng& rng) const {
   Spectrum sum(0.0f);
   Vec3 woLocal = hit.shading.toLocal(wo);
   for (int i = 0; i < o_.finalGather; ++i) {
     BSDFSample bs;
-    if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), TransportMode::Radiance, &bs))
+    if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &bs))
       continue;
+    if (bs.terminatesSecondary) lambda.terminateSecondary();
     Spectrum beta = bs.weight;
     Ray ray = scene.spawnRay(hit, hit.shading.toWorld(bs.wi));
     // Follow specular surfaces to the first diffuse or glossy one, and read the whole global
@@ -80,13 +82,14 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
       SurfaceHit y;
       if (!scene.intersect(ray, &y)) break;
       if (!y.bsdf->isDelta()) {
-        sum += beta * maps_.global.radiance(y, -ray.d, o_.density, Photon::kAcceptAll);
+        sum += beta * maps_.global.radiance(y, -ray.d, lambda, o_.density, Photon::kAcceptAll);
         break;
       }
       BSDFSample s;
-      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), y.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
-                          TransportMode::Radiance, &s))
+      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), BSDFContext(y.uv, lambda), Vec2(rng.uniform(), rng.uniform()),
+                          rng.uniform(), &s))
         break;
+      if (s.terminatesSecondary) lambda.terminateSecondary();
       beta *= s.weight;
       ray = scene.spawnRay(y, y.shading.toWorld(s.wi));
     }
@@ -94,7 +97,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
   return sum / float(o_.finalGather);
 }
 
-Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng) const {
+Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
   Spectrum L(0.0f), beta(1.0f);
   Ray ray = cameraRay;
   for (int depth = 0; depth <= o_.maxDepth; ++depth) {
@@ -102,13 +105,13 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng
     if (!scene.intersect(ray, &hit)) break;
     Vec3 wo = -ray.d;
     // Only the camera ray or a chain of specular bounces gets here: emission counts in full.
-    if (hit.light && o_.aov.empty()) L += beta * hit.light->L(wo);
+    if (hit.light && o_.aov.empty()) L += beta * hit.light->L(wo, lambda);
     Vec3 woLocal = hit.shading.toLocal(wo);
     if (hit.bsdf->isDelta()) {
       BSDFSample s;
-      if (!hit.bsdf->sample(woLocal, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
-                            TransportMode::Radiance, &s))
+      if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
         break;
+      if (s.terminatesSecondary) lambda.terminateSecondary();
       beta *= s.weight;
       ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
       continue;
@@ -118,12 +121,12 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, Rng& rng
       maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect, &stats);
       return Spectrum(o_.aov == "photons" ? float(stats.photons) : stats.radius);
     }
-    L += beta * estimateDirect(scene, hit, woLocal, rng, false);
-    L += beta * causticRadiance(hit, wo);
+    L += beta * estimateDirect(scene, hit, woLocal, lambda, rng, false);
+    L += beta * causticRadiance(hit, wo, lambda);
     if (o_.finalGather > 0)
-      L += beta * finalGather(scene, hit, wo, rng);
+      L += beta * finalGather(scene, hit, wo, lambda, rng);
     else
-      L += beta * maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect);
+      L += beta * maps_.global.radiance(hit, wo, lambda, o_.density, Photon::kAcceptIndirect);
     break;
   }
   return L;

@@ -19,14 +19,20 @@
 namespace pl {
 
 struct IntegratorEntry {
+  using Factory = std::function<std::unique_ptr<Integrator>(const ParamSet&, const RenderOptions&)>;
+  using Resolve = std::function<std::string(const Scene&, int width, int height, ParamSet&)>;
+  IntegratorEntry(std::string name, std::string summary, std::vector<ParamSpec> params, Factory make, Resolve resolve = {})
+      : name(std::move(name)), summary(std::move(summary)), params(std::move(params)), make(std::move(make)),
+        resolve(std::move(resolve)) {}
+
   std::string name;
   std::string summary;  // one line
   std::vector<ParamSpec> params;
-  std::function<std::unique_ptr<Integrator>(const ParamSet&, const RenderOptions&)> make;
+  Factory make;
   // Optional: fills scene-dependent defaults into the parameters before rendering (so that the
   // metadata and the resolved config say what was used) and says what it chose, in words, for
   // the summary line ("" when there is nothing to say).
-  std::function<std::string(const Scene&, int width, int height, ParamSet&)> resolve;
+  Resolve resolve;
 
   // The parameter that is the render's budget unit ("spp" or "passes"), or nullptr.
   const ParamSpec* budgetParam() const;

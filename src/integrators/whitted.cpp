@@ -4,13 +4,13 @@
 
 namespace pl {
 
-Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, Rng& rng, int depth) const {
+Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, int depth) const {
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return Spectrum(0.0f);
   Spectrum L(0.0f);
-  if (hit.light) L += hit.light->L(-ray.d);
+  if (hit.light) L += hit.light->L(-ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);
-  if (!hit.bsdf->isDelta()) return L + estimateDirect(scene, hit, wo, rng, false);
+  if (!hit.bsdf->isDelta()) return L + estimateDirect(scene, hit, wo, lambda, rng, false);
   if (depth >= maxDepth_) return L;
   // Enumerate the specular lobes deterministically: uc = 0 picks reflection whenever it has
   // any probability, uc → 1 picks transmission whenever it exists. The lobe's contribution is
@@ -19,14 +19,15 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, Rng& rng, 
   int count = 0;
   for (float uc : {0.0f, 0.99999994f}) {
     BSDFSample s;
-    if (!hit.bsdf->sample(wo, hit.uv, Vec2(0.5f), uc, TransportMode::Radiance, &s)) continue;
+    if (!hit.bsdf->sample(wo, BSDFContext(hit.uv, lambda), Vec2(0.5f), uc, &s)) continue;
+    if (s.terminatesSecondary) lambda.terminateSecondary();
     if (count == 1 && glm::all(glm::equal(s.wi, lobes[0].wi))) continue;  // single-lobe BSDF
     lobes[count++] = s;
   }
   for (int i = 0; i < count; ++i) {
     Spectrum w = lobes[i].weight * lobes[i].pdf;
     if (isBlack(w)) continue;
-    L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, rng, depth + 1);
+    L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, lambda, rng, depth + 1);
   }
   return L;
 }

@@ -13,7 +13,7 @@ AreaLight::AreaLight(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Spect
   frame_ = Frame(len > 0 ? c / len : Vec3(0, 0, 1));
 }
 
-bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
+bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const {
   if (area_ <= 0) return false;
   Vec2 b = sampleUniformTriangle(u);
   Vec3 y = b.x * p0_ + b.y * p1_ + (1 - b.x - b.y) * p2_;
@@ -23,7 +23,7 @@ bool AreaLight::sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const {
   s->distance = std::sqrt(r2);
   s->wi = d / s->distance;
   float cosLight = glm::dot(frame_.n, -s->wi);
-  s->Li = L(-s->wi);
+  s->Li = L(-s->wi, lambda);
   if (cosLight == 0 || isBlack(s->Li)) return false;
   s->pdf = r2 / (area_ * std::abs(cosLight));
   return true;
@@ -36,7 +36,7 @@ float AreaLight::pdfLi(const Vec3& p, const Vec3& y) const {
   return cosLight > 0 && area_ > 0 ? r2 / (area_ * cosLight) : 0.0f;
 }
 
-EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection) const {
+EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const {
   Vec2 b = sampleUniformTriangle(uPosition);
   Vec3 y = b.x * p0_ + b.y * p1_ + (1 - b.x - b.y) * p2_;
   Vec2 u = uDirection;
@@ -51,7 +51,18 @@ EmittedRay AreaLight::sampleLe(const Vec2& uPosition, const Vec2& uDirection) co
   local.z = negateIf(back, local.z);
   Vec3 dir = frame_.toWorld(local);
   // flux = Le cosθ / (pdf_A · pdf_ω) = Le cosθ · A · π / cosθ (× 2 faces) = Φ.
-  return {Ray{y, dir}, emit(Le_) * (kPi * area_ * sides)};
+  EmittedRay e{Ray{y, dir}, emit(Le_, lambda) * (kPi * area_ * sides)};
+  e.n = frame_.n;
+  e.pdfPos = 1.0f / area_;
+  e.pdfDir = std::abs(local.z) * kInvPi / sides;
+  return e;
+}
+
+void AreaLight::pdfLe(const Ray& ray, const Vec3&, float* pdfPos, float* pdfDir) const {
+  float c = glm::dot(frame_.n, ray.d);
+  bool emits = c > 0 || (twoSided_ && c < 0);
+  *pdfPos = area_ > 0 ? 1.0f / area_ : 0.0f;
+  *pdfDir = emits ? std::abs(c) * kInvPi / (twoSided_ ? 2.0f : 1.0f) : 0.0f;
 }
 
 }  // namespace pl

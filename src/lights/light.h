@@ -1,6 +1,7 @@
 // The light interface. Every light knows its power Φ (W, per RGB channel), can sample a
 // direction towards a shading point (next-event estimation) and can sample an emitted ray whose
-// flux has expectation Φ (photon tracing).
+// flux has expectation Φ (photon tracing, light tracing), with the densities of both so that
+// bidirectional methods can weigh one strategy against another.
 #pragma once
 #include "core/common.h"
 #include "spectral/spectral.h"
@@ -19,7 +20,10 @@ struct LightSample {
 // One photon leaving the light: E[flux] = Φ over the light's sampling.
 struct EmittedRay {
   Ray ray;
-  Spectrum flux;
+  Spectrum flux;        // Le·|cosθ| / (pdfPos·pdfDir) (I/pdfDir, E/pdfPos for delta lights)
+  Vec3 n{0.0f};         // surface normal at the origin (area lights; 0 for the others)
+  float pdfPos = 1.0f;  // area density of the origin; 1 for a delta position
+  float pdfDir = 1.0f;  // solid-angle density of the direction; 1 for a delta direction
 };
 
 class Light {
@@ -31,10 +35,20 @@ class Light {
   // The equal-energy illuminant E instead of D65 as the light's spectrum (extras.photonlab.illuminant = "E").
   bool equalEnergy = false;
   virtual Spectrum power() const = 0;
-  virtual bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const = 0;
-  virtual EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const = 0;
-  // Point, spot and directional lights cannot be hit by rays.
-  virtual bool isDelta() const { return true; }
+  virtual bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const = 0;
+  virtual EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const = 0;
+  // Solid-angle density, seen from p, of sampleLi() choosing the light point y; 0 for delta
+  // lights (no ray finds them).
+  virtual float pdfLi(const Vec3& p, const Vec3& y) const { return 0.0f; }
+  // The densities with which sampleLe() would emit `ray` from its origin (normal n there).
+  virtual void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const = 0;
+  // Radiance leaving the light's point y in direction w (unit); 0 for delta lights.
+  virtual Spectrum L(const Vec3& y, const Vec3& w, const SampledWavelengths& lambda) const { return Spectrum(0.0f); }
+  // Point and spot lights sit at one point; directional light comes from one direction. Neither
+  // can be hit by rays.
+  virtual bool isDeltaPosition() const { return true; }
+  virtual bool isDeltaDirection() const { return false; }
+  bool isDelta() const { return isDeltaPosition() || isDeltaDirection(); }
   // Lights that need the scene's extent (directional) are told it once loading is done.
   virtual void preprocess(const Vec3& sceneCenter, float sceneRadius) {}
   virtual const char* name() const = 0;
@@ -44,9 +58,8 @@ class Light {
   // values at the path's wavelengths. Every light passes one fixed colour times a scalar
   // (I·c, Le·c, ...), so its spectrum per unit of that scalar is tabulated once: per unit of
   // luminance for the fixed shapes (blackbody, E), per unit of the largest component otherwise.
-  Spectrum emit(const Spectrum& rgb) const {
-    const SpectralContext& ctx = spectralContext();
-    if (!ctx.active) return rgb;
+  Spectrum emit(const Spectrum& rgb, const SampledWavelengths& lambda) const {
+    if (!lambda.spectral) return rgb;
     float scale = temperature > 0 || equalEnergy ? luminance(rgb) : maxComponent(rgb);
     if (!(scale > 0.0f)) return Spectrum(0.0f);
     const auto& table = emission_.get([&](LazySpectrum::Table& t) {
@@ -54,7 +67,7 @@ class Light {
       else if (equalEnergy) equalEnergyTable(&t);
       else emissionTable(rgb / scale, &t);
     });
-    return scale * LazySpectrum::at(table, ctx.lambda);
+    return scale * LazySpectrum::at(table, lambda.lambda);
   }
 
  private:

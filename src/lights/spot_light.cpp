@@ -29,7 +29,7 @@ float SpotLight::falloff(float cosTheta) const {
 
 Spectrum SpotLight::power() const { return I_ * (2.0f * kPi * solidAngleFactor(cosInner_, cosOuter_)); }
 
-bool SpotLight::sampleLi(const Vec3& p, const Vec2&, LightSample* s) const {
+bool SpotLight::sampleLi(const Vec3& p, const Vec2&, const SampledWavelengths& lambda, LightSample* s) const {
   Vec3 d = position_ - p;
   float r2 = glm::dot(d, d);
   if (r2 <= 0) return false;
@@ -37,17 +37,24 @@ bool SpotLight::sampleLi(const Vec3& p, const Vec2&, LightSample* s) const {
   s->wi = d / s->distance;
   float a = falloff(glm::dot(-s->wi, direction_));
   if (a <= 0) return false;
-  s->Li = emit(I_) * a / r2;
+  s->Li = emit(I_, lambda) * a / r2;
   s->pdf = 1.0f;
   return true;
 }
 
-EmittedRay SpotLight::sampleLe(const Vec2&, const Vec2& u) const {
+EmittedRay SpotLight::sampleLe(const Vec2&, const Vec2& u, const SampledWavelengths& lambda) const {
   // Uniform in the outer cone, pdf 1/(2π(1 − cosθo)); flux = I(ω)/pdf.
   Vec3 local = sampleUniformCone(u, cosOuter_);
   float pdf = 1.0f / (2.0f * kPi * (1.0f - cosOuter_));
   Vec3 dir = Frame(direction_).toWorld(local);
-  return {Ray{position_, dir}, emit(I_) * falloff(local.z) / pdf};
+  EmittedRay e{Ray{position_, dir}, emit(I_, lambda) * falloff(local.z) / pdf};
+  e.pdfDir = pdf;
+  return e;
+}
+
+void SpotLight::pdfLe(const Ray& ray, const Vec3&, float* pdfPos, float* pdfDir) const {
+  *pdfPos = 1.0f;
+  *pdfDir = glm::dot(ray.d, direction_) >= cosOuter_ ? 1.0f / (2.0f * kPi * (1.0f - cosOuter_)) : 0.0f;
 }
 
 }  // namespace pl

@@ -15,8 +15,9 @@ class SpotLight final : public Light {
   static float solidAngleFactor(float cosInner, float cosOuter);
   float falloff(float cosTheta) const;
   Spectrum power() const override;
-  bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const override;
-  EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const override;
+  bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const override;
+  EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const override;
+  void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const override;
   const char* name() const override { return "spot"; }
 
  private:

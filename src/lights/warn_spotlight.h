@@ -14,9 +14,12 @@ class WarnSpotlight final : public Light {
   }
   Spectrum intensity(float cosTheta) const { return cosTheta > 0 ? c_ * std::pow(cosTheta, s_) : Spectrum(0.0f); }
   Spectrum power() const override { return c_ * (2.0f * kPi / (s_ + 1.0f)); }
-  bool sampleLi(const Vec3& p, const Vec2& u, LightSample* s) const override;
-  EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection) const override;
+  bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const override;
+  EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const override;
+  void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const override;
   const char* name() const override { return "warn"; }
+  // sampleLe()'s density of a direction at angle θ from the axis: (s+1)/(2π) cosˢθ.
+  float directionPdf(float cosTheta) const;
 
  private:
   Vec3 position_, direction_;

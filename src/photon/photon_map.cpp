@@ -314,16 +314,8 @@ Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const D
                              GatherStats* stats) const {
   Vec3 n = glm::dot(hit.ng, woWorld) >= 0 ? hit.ng : -hit.ng;
   Vec3 wo = hit.shading.toLocal(woWorld);
-  // Photons hold RGB flux, so the estimate is made in RGB and, on a spectral path, handed back
-  // at the path's wavelengths (an illuminant-type uplift: the film maps it back to the same RGB).
-  const bool spectral = spectralContext().active;
-  Spectrum rgb;
-  {
-    RGBScope inRGB;
-    rgb = estimate(hit.p, n, de, accept, stats,
-                   [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
-  }
-  return spectral ? spectralEmission(rgb) : rgb;
+  return estimate(hit.p, n, de, accept, stats,
+                  [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
 }
 
 Spectrum PhotonMap::irradiance(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,

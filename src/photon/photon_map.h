@@ -60,6 +60,14 @@ class PhotonMap {
   // With k-NN and the uniform kernel, the k-th photon sits on the boundary of the disc it
   // defines: it is dropped and the k − 1 others divided by πr_k² (the unbiased form for a
   // Poisson process). The other kernels vanish on the boundary and need no correction.
+  // The same on a path at `lambda`: photons hold RGB flux, so the estimate is made in RGB and, on
+  // a spectral path, handed back at its wavelengths (an illuminant-type uplift: the film maps it
+  // back to the same RGB).
+  Spectrum radiance(const SurfaceHit& hit, const Vec3& woWorld, const SampledWavelengths& lambda,
+                    const DensityEstimation& de, uint8_t accept) const {
+    return spectralEmission(radiance(hit, woWorld, de, accept), lambda);
+  }
+  // In RGB.
   Spectrum radiance(const SurfaceHit& hit, const Vec3& woWorld, const DensityEstimation& de, uint8_t accept,
                     GatherStats* stats = nullptr) const;
   // Irradiance E = Σ Φp K at x (the same estimator without the BSDF), for tests.

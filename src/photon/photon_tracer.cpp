@@ -19,13 +19,11 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
 [[gnu::flatten]] void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
                std::vector<Photon>* out) {
   Rng rng(0);
-  struct EndPath {
-    ~EndPath() { spectralContext().active = false; }
-  } endPath;
-  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral);
+  SampledWavelengths lambda;
+  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda);
   // What a stored photon carries: in spectral mode the XYZ of its wavelengths' values (the map
   // converts to linear sRGB when it reads them), so that gathers are the same in both modes.
-  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToXYZ(flux, spectralContext().lambda) : flux; };
+  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToXYZ(flux, lambda.lambda) : flux; };
   Spectrum flux = e.flux;
   if (isBlack(flux) || !isFinite(flux)) return;
   Ray ray = e.ray;
@@ -53,10 +51,11 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     float uc = rng.uniform();
     // Diffuse hits, most of them, call Lambertian (final) directly, inlined here: the virtual
     // call and BSDFSample's round trip through memory measured 3–4% of photon tracing.
-    bool sampled = hit.bsdf->isLambertian()
-                       ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, hit.uv, u, uc, TransportMode::Importance, &bs)
-                       : hit.bsdf->sample(woLocal, hit.uv, u, uc, TransportMode::Importance, &bs);
+    const BSDFContext bc(hit.uv, lambda, TransportMode::Importance);
+    bool sampled = hit.bsdf->isLambertian() ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
+                                            : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
     if (!sampled) return;
+    if (bs.terminatesSecondary) lambda.terminateSecondary();
     // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
     // so the flux keeps its magnitude instead of shrinking bounce after bounce.
     float q = std::min(1.0f, maxComponent(bs.weight));
@@ -123,15 +122,17 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
 }  // namespace
 
 EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
-                      bool spectral) {
+                      bool spectral, SampledWavelengths* lambda) {
   *rng = Rng::hashed(mix64(seed ^ (stream << 32) ^ stream), index);  // photon i's stream: (seed, map, i)
-  if (spectral) beginPath(true, rng->uniform());
+  SampledWavelengths own;
+  if (!lambda) lambda = &own;
+  *lambda = spectral ? SampledWavelengths::sample(rng->uniform()) : SampledWavelengths();
   const AliasTable& lights = scene.lightDistribution();
   if (lights.size() == 0 || lights.total() <= 0) return EmittedRay{Ray{}, Spectrum(0.0f)};
   float pmf;
   size_t l = lights.sample(rng->uniform(), &pmf);
   Vec2 u1(rng->uniform(), rng->uniform()), u2(rng->uniform(), rng->uniform());
-  EmittedRay e = scene.lights()[l]->sampleLe(u1, u2);
+  EmittedRay e = scene.lights()[l]->sampleLe(u1, u2, *lambda);
   e.flux *= 1.0f / (pmf * float(count));  // one division, not three
   return e;
 }

@@ -33,9 +33,9 @@ struct PhotonMaps {
 };
 
 // Emits photon path `index` of `count` (for tests and the tracer): E[flux] = total power / count.
-// With `spectral`, also starts the photon's spectral path (its wavelengths come from its stream).
+// With `spectral`, the photon's wavelengths come first from its stream (into *lambda).
 EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
-                      bool spectral = false);
+                      bool spectral = false, SampledWavelengths* lambda = nullptr);
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& options);
 

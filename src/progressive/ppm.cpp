@@ -25,9 +25,9 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
       size_t i = y * W + x;
       Rng rng = Rng::keyed(ro.seed, i, 0);
       Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-      if (ro.spectral) beginPath(true, rng.uniform());
-      Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &hitPoints[i]);
-      finishSpectralVisiblePoint(&hitPoints[i], &L);
+      SampledWavelengths lambda = ro.spectral ? SampledWavelengths::sample(rng.uniform()) : SampledWavelengths();
+      Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &hitPoints[i]);
+      finishSpectralVisiblePoint(lambda, &hitPoints[i], &L);
       emitted[i] = glm::dvec3(L);
       stats[i].R2 = double(r0) * r0;
     }

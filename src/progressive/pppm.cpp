@@ -32,17 +32,14 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-        Vec3 lambda = ro.spectral ? beginPath(true, rng.uniform()) : Vec3(0.0f);
+        SampledWavelengths lambda = ro.spectral ? SampledWavelengths::sample(rng.uniform()) : SampledWavelengths();
         VisiblePoint vp;
-        Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
+        Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
-          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, de, accept);  // uplifted on a spectral path
+          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, rng, false);
+          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);  // uplifted on a spectral path
         }
-        if (ro.spectral) {
-          L = spectralToRGB(L, lambda);
-          spectralContext().active = false;
-        }
+        if (ro.spectral) L = spectralToRGB(L, lambda.lambda);
         if (isFinite(L)) sum[i] += glm::dvec3(L);  // a non-finite sample is dropped, never accumulated
         ++passes[i];
       }

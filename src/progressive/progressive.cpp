@@ -30,14 +30,14 @@ std::string resolveProgressiveRadius(const Scene& scene, int width, int height, 
          " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)";
 }
 
-Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp) {
+Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp) {
   vp->valid = false;
   Spectrum L(0.0f), beta(1.0f);
   for (int depth = 0; depth <= maxDepth; ++depth) {
     SurfaceHit hit;
     if (!scene.intersect(ray, &hit)) break;
     Vec3 wo = -ray.d;
-    if (hit.light) L += beta * hit.light->L(wo);
+    if (hit.light) L += beta * hit.light->L(wo, lambda);
     if (!hit.bsdf->isDelta()) {
       vp->hit = hit;
       vp->wo = wo;
@@ -46,9 +46,10 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, 
       break;
     }
     BSDFSample s;
-    if (!hit.bsdf->sample(hit.shading.toLocal(wo), hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(),
-                          TransportMode::Radiance, &s))
+    if (!hit.bsdf->sample(hit.shading.toLocal(wo), BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()),
+                          rng.uniform(), &s))
       break;
+    if (s.terminatesSecondary) lambda.terminateSecondary();
     beta *= s.weight;
     if (isBlack(beta) || !isFinite(beta)) break;
     ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
@@ -119,16 +120,14 @@ PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const Progress
   passes.assign(pixels, 0);
 }
 
-void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L) {
-  SpectralContext& ctx = spectralContext();
-  if (!ctx.active) return;
+void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp, Spectrum* L) {
+  if (!ctx.spectral) return;
   *L = spectralToRGB(*L, ctx.lambda);
   // A flat β (no coloured or dispersive surface on the way: the common case) is grey exactly;
   // otherwise the colour of white light through the chain is estimated at the path's wavelengths.
   const Spectrum& b = vp->beta;
   if (vp->valid && (ctx.heroOnly || b.x != b.y || b.y != b.z))
-    vp->beta = spectralToRGB(b * spectralEmission(Spectrum(1.0f)), ctx.lambda);
-  ctx.active = false;
+    vp->beta = spectralToRGB(b * spectralEmission(Spectrum(1.0f), ctx), ctx.lambda);
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,

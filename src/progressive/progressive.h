@@ -69,7 +69,7 @@ struct VisiblePoint {
   bool valid = false;
 };
 // Returns the emission picked up on the way (light seen directly or through specular surfaces).
-Spectrum traceVisiblePoint(const Scene& scene, Ray ray, Rng& rng, int maxDepth, VisiblePoint* vp);
+Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp);
 
 // One photon pass's contribution at a visible point: the M photons of `accepted` path types
 // inside the statistics' radius (same side, near the tangent plane) and their flux
@@ -124,7 +124,7 @@ inline Ray progressiveCameraRay(const Camera& camera, int x, int y, int width, i
 
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light
 // through the specular chain, so that gathers (in RGB) can use it; then the path ends.
-void finishSpectralVisiblePoint(VisiblePoint* vp, Spectrum* L);
+void finishSpectralVisiblePoint(const SampledWavelengths& lambda, VisiblePoint* vp, Spectrum* L);
 
 // The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
 // interrupt. pass(p) returns whether its photons were traced (a pass the budget stops before

@@ -29,14 +29,14 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         size_t i = y * W + x;
         Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
         Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-        if (ro.spectral) beginPath(true, rng.uniform());
+        SampledWavelengths lambda = ro.spectral ? SampledWavelengths::sample(rng.uniform()) : SampledWavelengths();
         VisiblePoint& vp = visible[i];
-        Spectrum L = traceVisiblePoint(scene, ray, rng, o.maxDepth, &vp);
+        Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), rng, false);
+          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, rng, false);
           if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
         }
-        finishSpectralVisiblePoint(&vp, &L);
+        finishSpectralVisiblePoint(lambda, &vp, &L);
         passDirect[i] = glm::dvec3(L);
       }
     });

@@ -101,11 +101,11 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         Ray ray = scene.camera().generateRay(x + jx, float(y) + jy, W, H);
         Spectrum L;
         if (o.spectral) {
-          Vec3 lambda = beginPath(true, rng.uniform());
-          L = spectralToRGB(integrator.Li(ray, scene, rng), lambda);
-          spectralContext().active = false;
+          SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
+          L = spectralToRGB(integrator.Li(ray, scene, lambda, rng), lambda.lambda);
         } else {
-          L = integrator.Li(ray, scene, rng);
+          SampledWavelengths lambda;
+          L = integrator.Li(ray, scene, lambda, rng);
         }
         ++count[pixel];
         if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film

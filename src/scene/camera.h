@@ -1,9 +1,25 @@
 // Pinhole camera as glTF defines it: looks down its local −Z with +Y up; yfov is the full
 // vertical field of view in radians.
+//
+// Seen from the light's side (light tracing, bidirectional methods) the camera is an emitter of
+// importance. With the film at distance 1 in front of the pinhole, of area
+// A = (2 tan(yfov/2))² · aspect, the importance of a ray at angle θ from the view axis is
+// We = 1/(A cos⁴θ) inside the film and 0 outside: then ∫ We cosθ dω over the film is 1, so a
+// measurement with We is the film's mean radiance, and pixel j's value is W·H times the part of
+// it that lands in pixel j (pbrt-v3 §16.1.1, Veach 1997 §8.1).
 #pragma once
 #include "core/common.h"
 
 namespace pl {
+
+// A connection from a scene point to the camera (Camera::sampleWi).
+struct CameraSample {
+  Vec2 raster;          // film position in pixels, (0, 0) the top-left corner
+  Vec3 wi;              // unit, from the scene point towards the pinhole
+  float distance = 0;   // to the pinhole
+  float We = 0;         // importance of the ray from the pinhole to the point
+  float pdf = 0;        // solid-angle density of wi seen from the point: d²/cosθ (the pinhole is a delta position)
+};
 
 struct Camera {
   Vec3 position{0.0f};
@@ -19,6 +35,62 @@ struct Camera {
     float sy = (1.0f - 2.0f * y / height) * tanHalf;  // row 0 at the top
     Vec3 d = glm::normalize(forward + sx * right + sy * up);
     return Ray{position, d};
+  }
+
+  // Film area at distance 1 from the pinhole.
+  float filmArea(int width, int height) const {
+    float tanHalf = std::tan(0.5f * yfov);
+    return 4.0f * tanHalf * tanHalf * (float(width) / float(height));
+  }
+
+  // Where the ray leaving the pinhole in direction d (unit) meets the film, in pixels; false when
+  // it misses the film (behind the camera, or outside the image). The inverse of generateRay().
+  bool raster(const Vec3& d, int width, int height, Vec2* r) const {
+    float z = glm::dot(d, forward);
+    if (!(z > 0)) return false;
+    float tanHalf = std::tan(0.5f * yfov);
+    float aspect = float(width) / float(height);
+    float sx = glm::dot(d, right) / z, sy = glm::dot(d, up) / z;
+    float x = (sx / (tanHalf * aspect) + 1.0f) * 0.5f * width;
+    float y = (1.0f - sy / tanHalf) * 0.5f * height;
+    if (!(x >= 0 && x < width && y >= 0 && y < height)) return false;
+    *r = Vec2(x, y);
+    return true;
+  }
+
+  // Importance of the ray leaving the pinhole in direction d (unit): 1/(A cos⁴θ) on the film, 0
+  // elsewhere.
+  float We(const Vec3& d, int width, int height) const {
+    Vec2 r;
+    if (!raster(d, width, height, &r)) return 0.0f;
+    float c = glm::dot(d, forward);
+    return 1.0f / (filmArea(width, height) * c * c * c * c);
+  }
+
+  // Densities with which generateRay() at a uniform film position emits direction d: the
+  // position is the pinhole (a delta: 1), the direction 1/(A cos³θ) on the film.
+  void pdfWe(const Vec3& d, int width, int height, float* pdfPos, float* pdfDir) const {
+    *pdfPos = 1.0f;
+    Vec2 r;
+    float c = glm::dot(d, forward);
+    *pdfDir = raster(d, width, height, &r) ? 1.0f / (filmArea(width, height) * c * c * c) : 0.0f;
+  }
+
+  // The connection from scene point p to the pinhole: the pixel it lands in, We, and the
+  // density d²/cosθ that turns We into a contribution β f |cos| We / pdf. False when p is not in
+  // view.
+  bool sampleWi(const Vec3& p, int width, int height, CameraSample* s) const {
+    Vec3 toCamera = position - p;
+    float d2 = glm::dot(toCamera, toCamera);
+    if (!(d2 > 0)) return false;
+    s->distance = std::sqrt(d2);
+    s->wi = toCamera / s->distance;
+    Vec3 d = -s->wi;
+    if (!raster(d, width, height, &s->raster)) return false;
+    float c = glm::dot(d, forward);
+    s->We = 1.0f / (filmArea(width, height) * c * c * c * c);
+    s->pdf = d2 / c;
+    return true;
   }
 };
 

@@ -20,15 +20,14 @@ class ColorTexture {
 
   // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h);
   // a constant colour's spectrum is tabulated once.
-  Spectrum eval(const Vec2& uv) const {
-    const SpectralContext& ctx = spectralContext();
-    if (!ctx.active) return evalRGB(uv);
-    if (!spectrum_) return spectralReflectance(evalRGB(uv));
+  Spectrum eval(const Vec2& uv, const SampledWavelengths& lambda) const {
+    if (!lambda.spectral) return evalRGB(uv);
+    if (!spectrum_) return spectralReflectance(evalRGB(uv), lambda);
     const auto& table = spectrum_->get([&](LazySpectrum::Table& t) {
       const RGBUplift& u = RGBUplift::instance();
       for (int i = 0; i < kCieSamples; ++i) t[i] = u.reflectance(factor_, kLambdaMin + float(i));
     });
-    return LazySpectrum::at(table, ctx.lambda);
+    return LazySpectrum::at(table, lambda.lambda);
   }
   Spectrum evalRGB(const Vec2& uv) const {
     if (!image_) return factor_;

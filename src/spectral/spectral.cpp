@@ -51,11 +51,6 @@ bool solve3(double A[3][3], const double b[3], double x[3]) {
 }
 }  // namespace
 
-SpectralContext& spectralContext() {
-  thread_local SpectralContext context;
-  return context;
-}
-
 Vec3 sampleWavelengths(float u) {
   Vec3 l;
   for (int k = 0; k < 3; ++k) {
@@ -208,16 +203,14 @@ float RGBUplift::reflectance(const Vec3& rgbIn, float lambda) const {
   return sum;
 }
 
-Spectrum spectralReflectance(const Spectrum& rgb) {
-  const SpectralContext& ctx = spectralContext();
-  if (!ctx.active) return rgb;
+Spectrum spectralReflectance(const Spectrum& rgb, const SampledWavelengths& ctx) {
+  if (!ctx.spectral) return rgb;
   const RGBUplift& u = RGBUplift::instance();
   return Spectrum(u.reflectance(rgb, ctx.lambda.x), u.reflectance(rgb, ctx.lambda.y), u.reflectance(rgb, ctx.lambda.z));
 }
 
-Spectrum spectralEmission(const Spectrum& rgb) {
-  const SpectralContext& ctx = spectralContext();
-  if (!ctx.active) return rgb;
+Spectrum spectralEmission(const Spectrum& rgb, const SampledWavelengths& ctx) {
+  if (!ctx.spectral) return rgb;
   float m = std::max(rgb.x, std::max(rgb.y, rgb.z));
   if (!(m > 0.0f)) return Spectrum(0.0f);
   const RGBUplift& u = RGBUplift::instance();

@@ -17,40 +17,32 @@
 
 namespace pl {
 
-// The sampled wavelengths of the path being traced on this thread. Integrators do not pass it
-// around: textures, lights and dielectrics consult it (it is inactive in RGB mode).
-struct SpectralContext {
-  bool active = false;
-  Vec3 lambda{550.0f};         // nm
-  bool heroOnly = false;       // after a dispersive refraction: only lambda.x carries a value
-};
-SpectralContext& spectralContext();  // thread-local
-
-// Evaluates in RGB for its lifetime (photon-map gathers: photons hold RGB flux), then restores
-// the path's spectral state.
-class RGBScope {
- public:
-  RGBScope() : saved_(spectralContext()) { spectralContext().active = false; }
-  ~RGBScope() { spectralContext() = saved_; }
-  RGBScope(const RGBScope&) = delete;
-  RGBScope& operator=(const RGBScope&) = delete;
-
- private:
-  SpectralContext saved_;
-};
-
 // Sets the three wavelengths from one uniform number (stratified rotation of λ₀).
 Vec3 sampleWavelengths(float u);
 
-// Starts a spectral path: activates the context with wavelengths from `u` (or deactivates it
-// when `spectral` is false). Returns the wavelengths.
-inline Vec3 beginPath(bool spectral, float u) {
-  SpectralContext& ctx = spectralContext();
-  ctx.active = spectral;
-  ctx.heroOnly = false;
-  if (spectral) ctx.lambda = sampleWavelengths(u);
-  return ctx.lambda;
-}
+// The wavelengths a path carries (as pbrt-v4's SampledWavelengths), passed explicitly to
+// everything that depends on them: textures, lights, dielectrics, the film. In RGB mode
+// (`spectral` false) the path's values are RGB and nothing consults `lambda`.
+struct SampledWavelengths {
+  Vec3 lambda{550.0f};    // nm
+  bool spectral = false;
+  bool heroOnly = false;  // after a dispersive refraction: only lambda.x carries a value
+
+  static SampledWavelengths sample(float u) {
+    SampledWavelengths w;
+    w.spectral = true;
+    w.lambda = sampleWavelengths(u);
+    return w;
+  }
+  // RGB rendering: what RGB-only callers (photon gathers, tests) pass.
+  static const SampledWavelengths& rgb() {
+    static const SampledWavelengths w;
+    return w;
+  }
+  // A dispersive refraction follows the hero wavelength alone from here on (the BSDF sample
+  // that does it says so, and weights the hero's value ×3 the first time).
+  void terminateSecondary() { heroOnly = true; }
+};
 
 // ∫ D65 ȳ dλ over the 1 nm table: the white illuminant's normalisation, so that an emitter of
 // RGB (1, 1, 1) has luminance Y = 1 in spectral mode as in RGB mode.
@@ -111,10 +103,10 @@ class LazySpectrum {
   mutable Table table_{};
 };
 
-// What textures and lights call: in spectral mode, the value at the context's wavelengths;
-// in RGB mode, `rgb` unchanged.
-Spectrum spectralReflectance(const Spectrum& rgb);  // albedos, clamped to [0, 1]
-Spectrum spectralEmission(const Spectrum& rgb);     // radiance, intensity, flux: max·ρ(rgb/max)·D65/Y
+// What textures and lights call: in spectral mode, the value at the path's wavelengths; in RGB
+// mode, `rgb` unchanged.
+Spectrum spectralReflectance(const Spectrum& rgb, const SampledWavelengths& lambda);  // albedos, clamped to [0, 1]
+Spectrum spectralEmission(const Spectrum& rgb, const SampledWavelengths& lambda);     // radiance, intensity, flux: max·ρ(rgb/max)·D65/Y
 // Emission spectra tabulated at the 1 nm samples (what a light caches, LazySpectrum::at reads):
 //   emissionTable: the uplift of a colour with max component 1, times D65 (spectralEmission's);
 //   blackbodyTable: Planck's law at T kelvin, scaled to luminance Y = 1 (a light's intensity

@@ -1,0 +1,91 @@
+// The render loop of light-side integrators (LightPathIntegrator, integrators/integrator.h).
+#include <atomic>
+
+#include "core/interrupt.h"
+#include "core/memory.h"
+#include "core/parallel.h"
+#include "integrators/integrator.h"
+
+namespace pl {
+
+ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
+  Budget budget(options.timeLimit);  // started here: preprocessing counts towards the render time
+  RenderOptions o = options;
+  resolveResolution(scene.camera(), o);
+  const int W = o.width, H = o.height;
+  const uint64_t pathsPerIteration = uint64_t(W) * H;
+  const int threads = resolveThreads(o.threads);
+  checkMemory(mulSaturate(pathsPerIteration, 2 * 3 * sizeof(double)), std::to_string(W) + "x" + std::to_string(H) + " splat film");
+  preprocess(scene, o.seed, threads, budget);
+
+  // Chunks of 4096 paths, each with its splat buffer; blocks of 64 chunks are traced in parallel
+  // and added to the iteration's film in chunk order (bounded memory, any thread count).
+  const uint64_t chunkSize = 4096, blockChunks = 64;
+  const uint64_t chunks = (pathsPerIteration + chunkSize - 1) / chunkSize;
+  const uint64_t stream = mix64(o.seed ^ 0x6c69676874ULL);  // "light": apart from the camera-side streams
+  SplatFilm total(W, H), iteration(W, H);
+  std::vector<SplatBuffer> buffers;
+  int done = 0;
+  auto fill = [&](RenderInfo* st, bool last) {
+    st->spp = done;
+    st->meanWork = done;
+    st->photons = uint64_t(done) * pathsPerIteration;
+    st->seconds = budget.elapsed();
+    st->nonFiniteSamples = total.nonFinite();
+    st->interrupted = interruptRequested();
+    st->timeUp = budget.timeUp();
+    st->last = last;
+  };
+  auto estimate = [&] { return total.image(done > 0 ? 1.0 / done : 0.0); };
+
+  const int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
+  bool finalCheckpoint = false;
+  for (int s = 0; s < target && !budget.expired(); ++s) {
+    iteration.clear();
+    std::atomic<bool> cut{false};
+    for (uint64_t first = 0; first < chunks && !cut; first += blockChunks) {
+      const uint64_t count = std::min(blockChunks, chunks - first);
+      buffers.resize(size_t(count));
+      parallelFor(size_t(count), threads, [&](size_t k, int) {
+        SplatBuffer& buffer = buffers[k];
+        buffer.clear();
+        if (budget.expired()) {  // a chunk is a few ms of tracing
+          cut = true;
+          return;
+        }
+        const uint64_t begin = (first + k) * chunkSize, end = std::min(pathsPerIteration, begin + chunkSize);
+        for (uint64_t i = begin; i < end; ++i) {
+          LightPathContext path{W, H, SampledWavelengths(), Rng::keyed(stream, i, uint64_t(s)), &buffer};
+          if (o.spectral) path.lambda = SampledWavelengths::sample(path.rng.uniform());
+          traceLightPath(scene, path);
+        }
+      });
+      if (cut) break;
+      iteration.add(buffers);
+    }
+    if (cut) break;  // this iteration is dropped whole
+    total.add(iteration);
+    ++done;
+    const bool last = done == target || budget.expired();
+    if (o.checkpoint && (isCheckpoint(done) || last)) {
+      budget.excluding([&] {
+        RenderInfo st;
+        fill(&st, last);
+        o.checkpoint(estimate(), st);
+      });
+      finalCheckpoint = last;
+    }
+    if (last) break;
+  }
+  if (o.checkpoint && !finalCheckpoint) {
+    budget.excluding([&] {
+      RenderInfo st;
+      fill(&st, true);
+      o.checkpoint(estimate(), st);
+    });
+  }
+  if (info) fill(info, true);
+  return estimate();
+}
+
+}  // namespace pl
