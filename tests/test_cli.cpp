@@ -97,7 +97,7 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   // An unknown integrator lists them all (sorted by name: the registry's order).
   Result u = run("render " + scene + " -o " + out + " --integrator bdpt");
   CHECK(u.code == 1);
-  CHECK_THAT(u.err, Contains("unknown integrator 'bdpt' (direct, path, photon, ppm, pppm, sppm, whitted)"));
+  CHECK_THAT(u.err, Contains("unknown integrator 'bdpt' (direct, light, path, photon, ppm, pppm, sppm, whitted)"));
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));
@@ -211,6 +211,7 @@ TEST_CASE("cli: --spectral renders with every integrator family and says so in t
   std::string scene = f.write("cli-spectral.gltf"), dir = GltfFixture::dir();
   // Each with its own options: the CLI refuses an option the integrator does not take.
   const std::map<std::string, std::string> options = {{"path", "--spp 2"},
+                                                      {"light", "--spp 2"},
                                                       {"photon", "--spp 2 --photons 2000 --caustic-photons 0"},
                                                       {"sppm", "--passes 2 --photons-per-pass 2000"}};
   for (auto& [integrator, args] : options) {

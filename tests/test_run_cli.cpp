@@ -323,3 +323,27 @@ TEST_CASE("render: SIGINT and SIGTERM take effect within 1 s in photon tracing a
     CHECK_THAT(photonlab({"info", dir + "/sig2.partial.exr"}).out, Contains("\"partial\": 1"));
   }
 }
+
+TEST_CASE("run: a light-tracing run is a run like any other - checkpoints - light paths counted - the reference's answer") {
+  // The registry makes `integrator = "light"` a run key like any other: spp, checkpoints at
+  // 1, 2, 4, ..., the light paths traced in the photons column (W·H per iteration), and an
+  // image that converges to the path-traced reference (the fixture: a lit floor; at 256 paths
+  // per pixel over 8×8 pixels the mean is good to ~2%, accepted within 10%).
+  const std::string dir = writeExperiment("exp-light", R"(
+[[run]]
+integrator = "light"
+spp = 256
+)");
+  const std::string out = dir + "/results";
+  Result r = photonlab({"run", dir + "/exp.toml", "--out", out, "--cache", dir + "/cache"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  auto rows = readCsv(out + "/metrics.csv");
+  REQUIRE(rows.size() == 1 + 9);  // spp 1, 2, 4, ..., 256
+  CHECK(rows[9][2] == "light");
+  CHECK(rows[9][6] == "256");
+  Result info = photonlab({"info", out + "/runs/01-light-1/seed-1/final.exr"});
+  const int height = std::stoi(info.out.substr(info.out.find("\"height\": ") + 10));
+  CHECK(rows[9][8] == std::to_string(256 * 8 * height));
+  CHECK(std::stod(rows[9][12]) == Approx(1.0).margin(0.1));  // mean_ratio against the reference
+}

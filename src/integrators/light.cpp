@@ -1,0 +1,87 @@
+#include "integrators/light.h"
+
+#include "integrators/registry.h"
+
+namespace pl {
+
+void LightTracer::connectToCamera(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, const Spectrum& beta,
+                                  LightPathContext& path) const {
+  CameraSample cs;
+  if (!scene.camera().sampleWi(hit.p, path.width, path.height, &cs)) return;
+  // The camera must be on the side the light arrives from (the non-specular BSDFs reflect only),
+  // by the geometric normal as well as the shading one: the shadow rays' rule.
+  if (glm::dot(cs.wi, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;
+  Vec3 woLocal = hit.shading.toLocal(wo), wiLocal = hit.shading.toLocal(cs.wi);
+  const BSDFContext bc(hit.uv, path.lambda, TransportMode::Importance);
+  Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc) *
+               shadingNormalCorrection(woLocal, wiLocal, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+  if (isBlack(f)) return;
+  if (!scene.visible(hit, cs.wi, cs.distance)) return;
+  path.splat(cs.raster, beta * f * (std::abs(wiLocal.z) * cs.We / cs.pdf));
+}
+
+void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) const {
+  Rng& rng = path.rng;
+  const AliasTable& lights = scene.lightDistribution();
+  if (lights.size() == 0 || lights.total() <= 0) return;
+  float pmf;
+  const Light& light = *scene.lights()[lights.sample(rng.uniform(), &pmf)];
+  Vec2 uPosition(rng.uniform(), rng.uniform()), uDirection(rng.uniform(), rng.uniform());
+  EmittedRay e = light.sampleLe(uPosition, uDirection, path.lambda);
+  Spectrum beta = e.flux / pmf;  // Le |cosθ| / (pmf pdfPos pdfDir): an estimate of the total power
+  if (isBlack(beta) || !isFinite(beta)) return;
+
+  // The emission point itself, seen by the camera: C = Le |cosθy| We / (pmf pdfPos pdf_cam).
+  if (!light.isDelta()) {
+    CameraSample cs;
+    if (scene.camera().sampleWi(e.ray.o, path.width, path.height, &cs)) {
+      SurfaceHit y;
+      y.p = e.ray.o;
+      y.ng = e.n;
+      Spectrum Le = light.L(e.ray.o, cs.wi, path.lambda);
+      if (!isBlack(Le) && scene.visible(y, cs.wi, cs.distance))
+        path.splat(cs.raster, Le * (std::abs(glm::dot(e.n, cs.wi)) * cs.We / (pmf * e.pdfPos * cs.pdf)));
+    }
+  }
+
+  Ray ray = e.ray;
+  ray.tmin = scene.epsilon();  // area lights emit from their own triangle
+  Spectrum throughput(1.0f);   // ∏ f cos / pdf, for Russian roulette (beta carries watts)
+  for (int depth = 1; depth <= maxDepth_; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) return;
+    const Vec3 wo = -ray.d;
+    if (!hit.bsdf->isDelta()) connectToCamera(scene, hit, wo, beta, path);
+    if (depth == maxDepth_) return;
+
+    BSDFSample bs;
+    Vec3 woLocal = hit.shading.toLocal(wo);
+    Vec2 u(rng.uniform(), rng.uniform());
+    if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, path.lambda, TransportMode::Importance), u, rng.uniform(), &bs))
+      return;
+    if (bs.terminatesSecondary) path.lambda.terminateSecondary();
+    Vec3 wi = hit.shading.toWorld(bs.wi);
+    // Directions the shading normal allows but the geometry does not (light leaks) end the path.
+    bool transmitted = bs.wi.z * woLocal.z < 0;
+    if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return;
+    Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+    beta *= weight;
+    throughput *= weight;
+    // Russian roulette from the 4th bounce, as the path tracer: continue with q = min(1, max ∏).
+    if (depth >= 3) {
+      float q = std::min(1.0f, maxComponent(throughput));
+      if (!(q > 0) || rng.uniform() >= q) return;
+      beta /= q;
+      throughput /= q;
+    }
+    if (!isFinite(beta)) return;
+    ray = scene.spawnRay(hit, wi);
+  }
+}
+
+static const IntegratorRegistration registration({
+    "light", "light tracing: paths from the lights, every diffuse or glossy vertex splatted to the camera",
+    {params::spp(), params::maxDepth()},
+    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<LightTracer>(int(p.integer("max_depth"))); }});
+
+}  // namespace pl
