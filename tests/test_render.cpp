@@ -171,6 +171,48 @@ TEST_CASE("glass slab in front of an emitter: transmittance (1 − R)/(1 + R) - 
   CHECK(mean(renderWith(scene, "direct", 4, 1)) == 0.0);
 }
 
+TEST_CASE("a pile of glass plates: transmittance T/(N − (N−1)T) - the path tracer's variance is the binomial one (roulette divides out η²)") {
+  // Three plates (η = 1.5, each transmitting T = (1 − R)/(1 + R) with all its internal
+  // reflections) in front of an emitter: the pile of plates transmits T₃ = T/(3 − 2T) (Stokes'
+  // formula for incoherent, lossless plates), 0.80 here. Under Fresnel sampling every camera path
+  // either reaches the emitter with throughput exactly 1 (η² in, 1/η² out) or leaves: each sample
+  // is Le or 0, so a pixel of n samples has variance Le² T₃(1 − T₃)/n, nothing more. A Russian
+  // roulette on the raw throughput cut paths inside the third plate (throughput 1/η² there, at
+  // the 5th bounce) with probability 56% and weighted the survivors by 2.25: variance ~7× the
+  // binomial one. 16×16 pixels of 64 samples: the pixels' sample variance is within ±9% (1σ)
+  // of its expectation; accepted in [0.7, 1.35]. The mean: within 4σ of Le·T₃ (σ = 0.1%).
+  const float eta = 1.5f, Le = 1.0f;
+  Scene scene;
+  uint32_t glass = scene.addMaterial({"glass", std::make_unique<Dielectric>(eta), Spectrum(0), false});
+  uint32_t emitter = scene.addMaterial({"emitter", std::make_unique<Lambertian>(ColorTexture(Spectrum(0))), Spectrum(Le), false});
+  float s = 5.0f;
+  for (int k = 0; k < 3; ++k) {  // plates 0.2 thick, 0.3 apart
+    float front = -0.5f * k, back = front - 0.2f;
+    scene.addMesh({{-s, -s, front}, {s, -s, front}, {s, s, front}, {-s, s, front}}, {}, {}, {0, 1, 2, 0, 2, 3}, glass);
+    scene.addMesh({{-s, -s, back}, {-s, s, back}, {s, s, back}, {s, -s, back}}, {}, {}, {0, 1, 2, 0, 2, 3}, glass);
+  }
+  scene.addMesh({{-s, -s, -2}, {s, -s, -2}, {s, s, -2}, {-s, s, -2}}, {}, {}, {0, 1, 2, 0, 2, 3}, emitter);
+  Camera cam;
+  cam.position = Vec3(0, 0, 2);
+  cam.yfov = 0.01f;  // nearly normal incidence everywhere in the image
+  scene.setCamera(cam);
+  scene.commit();
+  const double R = std::pow((eta - 1) / (eta + 1), 2), T = (1 - R) / (1 + R), T3 = T / (3 - 2 * T);
+  const int W = 16, n = 64;
+  ImageRGB img = renderWith(scene, "path", W, n);
+  double sum = 0, sum2 = 0;
+  for (int i = 0; i < W * W; ++i) {
+    double v = img.data[3 * i + 1];
+    sum += v, sum2 += v * v;
+  }
+  const double m = sum / (W * W), variance = (sum2 - W * W * m * m) / (W * W - 1);
+  const double expectedVariance = Le * Le * T3 * (1 - T3) / n;
+  INFO("mean " << m << " (T3 " << T3 << "), variance " << variance << ", binomial " << expectedVariance);
+  CHECK(std::abs(m - Le * T3) < 4 * std::sqrt(expectedVariance / (W * W)));
+  CHECK(variance / expectedVariance > 0.7);
+  CHECK(variance / expectedVariance < 1.35);
+}
+
 TEST_CASE("Cornell box: path tracing limited to one bounce equals direct lighting (MIS is unbiased)") {
   // With max depth 1 the path tracer adds, at the first hit, next-event estimation and the
   // BSDF-sampled hit of the light, each weighted by the power heuristic: in expectation exactly

@@ -30,6 +30,7 @@ struct BSDFSample {
   Spectrum weight;   // f·|cosθi| / pdf
   float pdf = 0.0f;  // solid angle; for delta lobes the discrete probability of the lobe
   bool delta = false;
+  float eta = 1.0f;  // η_t/η_i of a refraction (what radiance's 1/η² scaling came from); 1 otherwise
   // A dispersive refraction: the caller's path follows the hero wavelength alone from here on
   // (SampledWavelengths::terminateSecondary); `weight` already holds the hero's ×3.
   bool terminatesSecondary = false;

@@ -35,6 +35,7 @@ bool Dielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float
     s->wi = Vec3(-wo.x, -wo.y, wo.z);
     s->weight = heroScale;
     s->pdf = F;
+    s->eta = 1.0f;
     return true;
   }
   bool entering = wo.z > 0;
@@ -46,6 +47,7 @@ bool Dielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float
   float scale = c.mode == TransportMode::Radiance ? 1.0f / (etaRel * etaRel) : 1.0f;
   s->weight = scale * heroScale;
   s->pdf = 1.0f - F;
+  s->eta = etaRel;
   return true;
 }
 

@@ -6,6 +6,7 @@ namespace pl {
 
 Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
   Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
+  float etaScale = 1.0f;          // ∏ η² over refractions (Russian roulette divides it out)
   Ray ray = cameraRay;
   bool specularBounce = true;  // the camera ray counts as "specular": emitters get full weight
   float bsdfPdf = 0.0f;
@@ -39,15 +40,16 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
     bool transmitted = bs.wi.z * wo.z < 0;
     if ((glm::dot(wi, hit.ng) * glm::dot(-ray.d, hit.ng) < 0) != transmitted) break;
     beta *= bs.weight;
+    etaScale *= bs.eta * bs.eta;
     specularBounce = bs.delta;
     bsdfPdf = bs.pdf;
     previousPoint = hit.p;
     ray = scene.spawnRay(hit, wi);
 
-    // Russian roulette: continue with probability q = min(1, max β), dividing by q keeps the
-    // estimator unbiased.
+    // Russian roulette: continue with probability q = min(1, max β·η²) (russianRouletteSurvival);
+    // dividing by q keeps the estimator unbiased.
     if (depth >= 3) {
-      float q = std::min(1.0f, maxComponent(beta));
+      float q = russianRouletteSurvival(beta, etaScale);
       if (q <= 0 || rng.uniform() >= q) break;
       beta /= q;
     }
