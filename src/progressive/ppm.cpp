@@ -23,9 +23,10 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
     for (int x = 0; x < W; ++x) {
       if (budget.expired()) return;
       size_t i = y * W + x;
-      Rng rng = Rng::keyed(ro.seed, i, 0);
-      Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-      SampledWavelengths lambda = ro.spectral ? SampledWavelengths::sample(rng.uniform()) : SampledWavelengths();
+      EyePath eye = beginEyePath(scene, ro, x, int(y), 0);
+      Rng& rng = eye.rng;
+      SampledWavelengths& lambda = eye.lambda;
+      const Ray& ray = eye.ray;
       Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &hitPoints[i]);
       finishSpectralVisiblePoint(lambda, &hitPoints[i], &L);
       emitted[i] = glm::dvec3(L);

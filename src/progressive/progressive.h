@@ -114,12 +114,22 @@ struct PassSetup {
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
                             bool spectral, const Budget* budget);
 
-// The camera ray of pixel (x, y) in a progressive eye pass, jittered from `rng`: y first, then x
+// The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0): the
+// random stream keyed by (seed, pixel, pass), the camera ray jittered from it, y first, then x
 // (the order GCC gave these draws when they were function arguments; stated, so that images do
-// not depend on the compiler).
-inline Ray progressiveCameraRay(const Camera& camera, int x, int y, int width, int height, Rng& rng) {
-  float jy = rng.uniform(), jx = rng.uniform();
-  return camera.generateRay(x + jx, y + jy, width, height);
+// not depend on the compiler; the per-pixel loop draws x first), then the wavelengths.
+struct EyePath {
+  Rng rng;
+  Ray ray;
+  SampledWavelengths lambda;
+};
+inline EyePath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
+  const uint64_t pixel = uint64_t(y) * uint64_t(image.width) + uint64_t(x);
+  EyePath e{Rng::keyed(image.seed, pixel, pass), Ray{}, SampledWavelengths()};
+  float jy = e.rng.uniform(), jx = e.rng.uniform();
+  e.ray = scene.camera().generateRay(x + jx, y + jy, image.width, image.height);
+  if (image.spectral) e.lambda = SampledWavelengths::sample(e.rng.uniform());
+  return e;
 }
 
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light

@@ -27,9 +27,10 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        Rng rng = Rng::keyed(ro.seed, i, uint64_t(p));
-        Ray ray = progressiveCameraRay(scene.camera(), x, int(y), W, H, rng);
-        SampledWavelengths lambda = ro.spectral ? SampledWavelengths::sample(rng.uniform()) : SampledWavelengths();
+        EyePath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
+        Rng& rng = eye.rng;
+        SampledWavelengths& lambda = eye.lambda;
+        const Ray& ray = eye.ray;
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
