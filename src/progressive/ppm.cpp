@@ -23,7 +23,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
     for (int x = 0; x < W; ++x) {
       if (budget.expired()) return;
       size_t i = y * W + x;
-      EyePath eye = beginEyePath(scene, ro, x, int(y), 0);
+      CameraPath eye = beginEyePath(scene, ro, x, int(y), 0);
       Rng& rng = eye.rng;
       SampledWavelengths& lambda = eye.lambda;
       const Ray& ray = eye.ray;

@@ -30,7 +30,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        EyePath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
+        CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
         Rng& rng = eye.rng;
         SampledWavelengths& lambda = eye.lambda;
         const Ray& ray = eye.ray;

@@ -11,6 +11,7 @@
 #include "integrators/integrator.h"
 #include "integrators/params.h"
 #include "photon/photon_tracer.h"
+#include "render/camera_path.h"
 #include "render/renderer.h"
 
 namespace pl {
@@ -114,22 +115,10 @@ struct PassSetup {
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
                             bool spectral, const Budget* budget);
 
-// The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0): the
-// random stream keyed by (seed, pixel, pass), the camera ray jittered from it, y first, then x
-// (the order GCC gave these draws when they were function arguments; stated, so that images do
-// not depend on the compiler; the per-pixel loop draws x first), then the wavelengths.
-struct EyePath {
-  Rng rng;
-  Ray ray;
-  SampledWavelengths lambda;
-};
-inline EyePath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
-  const uint64_t pixel = uint64_t(y) * uint64_t(image.width) + uint64_t(x);
-  EyePath e{Rng::keyed(image.seed, pixel, pass), Ray{}, SampledWavelengths()};
-  float jy = e.rng.uniform(), jx = e.rng.uniform();
-  e.ray = scene.camera().generateRay(x + jx, y + jy, image.width, image.height);
-  if (image.spectral) e.lambda = SampledWavelengths::sample(e.rng.uniform());
-  return e;
+// The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0), jittered
+// y first (render/camera_path.h).
+inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
+  return beginCameraPath(scene, image, x, y, pass, JitterOrder::YThenX);
 }
 
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light

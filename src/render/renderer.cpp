@@ -9,6 +9,7 @@
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "render/camera_path.h"
 #include "spectral/spectral.h"
 
 namespace pl {
@@ -96,17 +97,9 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         uint64_t pixel = uint64_t(y) * W + x;
-        Rng rng = Rng::keyed(o.seed, pixel, uint64_t(s));
-        float jx = rng.uniform(), jy = rng.uniform();
-        Ray ray = scene.camera().generateRay(x + jx, float(y) + jy, W, H);
-        Spectrum L;
-        if (o.spectral) {
-          SampledWavelengths lambda = SampledWavelengths::sample(rng.uniform());
-          L = spectralToRGB(integrator.Li(ray, scene, lambda, rng), lambda.lambda);
-        } else {
-          SampledWavelengths lambda;
-          L = integrator.Li(ray, scene, lambda, rng);
-        }
+        CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
+        Spectrum L = integrator.Li(path.ray, scene, path.lambda, path.rng);
+        if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
         ++count[pixel];
         if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
           ++nonFinite[y];
