@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <nlohmann/json.hpp>
@@ -264,14 +265,22 @@ int main(int argc, char** argv) {
   for (const IntegratorEntry* e : integrators())
     for (const ParamSpec& p : e->params) {
       if (paramOpts.count(p.name) || p.name == "aov") continue;
-      std::string help;
+      // One line per distinct meaning ("photon: fixed radius; ppm, pppm, sppm: initial radius").
+      std::vector<std::pair<std::string, std::string>> meanings;  // doc (default) -> integrators
       for (const IntegratorEntry* f : integrators())
-        for (const ParamSpec& q : f->params)
-          if (q.name == p.name && help.find(q.doc) == std::string::npos) {
-            help += (help.empty() ? "" : "; ") + q.doc + " (" + (q.defaultValue.empty() ? q.defaultDoc : q.defaultValue) + ")";
-          }
-      help += " [" + integratorsTaking(p.name) + "]";
-      paramOpts[p.name] = render->add_option(p.flag(), paramText[p.name], help);
+        for (const ParamSpec& q : f->params) {
+          if (q.name != p.name) continue;
+          std::string meaning = q.doc + " (default " + (q.defaultDoc.empty() ? q.defaultValue : q.defaultDoc) + ")";
+          auto it = std::find_if(meanings.begin(), meanings.end(), [&](auto& m) { return m.first == meaning; });
+          if (it == meanings.end()) meanings.push_back({meaning, f->name});
+          else it->second += ", " + f->name;
+        }
+      std::string help;
+      for (auto& [meaning, who] : meanings) help += (help.empty() ? "" : "; ") + who + ": " + meaning;
+      const char* type = p.type == ParamType::Integer ? "INT" : p.type == ParamType::Real ? "FLOAT" : "";
+      std::string choices;
+      for (auto& c : p.choices) choices += (choices.empty() ? "" : "|") + c;
+      paramOpts[p.name] = render->add_option(p.flag(), paramText[p.name], help)->type_name(p.type == ParamType::Choice ? choices : type);
     }
   std::string aov;
   render->add_option("--aov", aov,

@@ -53,7 +53,10 @@ class ParamSet {
   ParamSet() = default;
   explicit ParamSet(const std::vector<ParamSpec>* specs);
 
-  const std::vector<ParamSpec>& specs() const { return *specs_; }
+  const std::vector<ParamSpec>& specs() const {
+    static const std::vector<ParamSpec> none;
+    return specs_ ? *specs_ : none;
+  }
   const ParamSpec* spec(const std::string& name) const;
   bool has(const std::string& name) const { return spec(name) != nullptr; }
   bool isSet(const std::string& name) const { return values_.count(name) > 0; }

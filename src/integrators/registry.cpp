@@ -67,7 +67,7 @@ std::string integratorsTaking(const std::string& param) {
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const ParamSet& params, const RenderOptions& image) {
   const IntegratorEntry& e = integratorEntry(name);
-  if (params.specs().data() != e.params.data()) throw Error("parameters of another integrator given to " + name);
+  if (&params.specs() != &e.params) throw Error("parameters of another integrator given to " + name);
   return e.make(params, image);
 }
 
