@@ -79,9 +79,18 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
   }
 }
 
+namespace {
+// spp as the light-side loop counts it: iterations of W·H light paths.
+ParamSpec lightPathsPerPixel() {
+  ParamSpec s = params::spp();
+  s.doc = "light paths per pixel: each iteration traces W·H paths (the path tracer's work at the same spp)";
+  return s;
+}
+}  // namespace
+
 static const IntegratorRegistration registration({
     "light", "light tracing: paths from the lights, every diffuse or glossy vertex splatted to the camera",
-    {params::spp(), params::maxDepth()},
+    {lightPathsPerPixel(), params::maxDepth()},
     [](const ParamSet& p, const RenderOptions&) { return std::make_unique<LightTracer>(int(p.integer("max_depth"))); }});
 
 }  // namespace pl
