@@ -12,6 +12,7 @@
 #include "integrators/params.h"
 #include "photon/photon_tracer.h"
 #include "render/camera_path.h"
+#include "render/checkpoints.h"
 #include "render/renderer.h"
 
 namespace pl {
@@ -134,7 +135,6 @@ template <typename PassFn, typename ImageFn, typename RadiusFn>
 ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* info, PassFn&& pass, ImageFn&& image,
                    RadiusFn&& meanRadius) {
   Budget& budget = setup.budget;
-  const auto& checkpoint = setup.image.checkpoint;
   RenderInfo pi;
   uint64_t tracedPasses = 0;
   auto fill = [&](bool last) {
@@ -148,23 +148,19 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     pi.timeUp = budget.timeUp();
     pi.last = last;
   };
-  bool finalCheckpoint = false;
+  auto infoAt = [&](bool last) {
+    fill(last);
+    return pi;
+  };
+  Checkpoints checkpoints(setup.image, budget);
   for (int p = 1; p <= o.passes && !budget.expired(); ++p) {
     if (pass(p)) ++tracedPasses;
     bool last = p == o.passes || budget.expired();
-    if (checkpoint && (isCheckpoint(p) || last)) {
-      budget.excluding([&] {
-        fill(last);
-        checkpoint(image(), pi);
-      });
-      finalCheckpoint = last;
-    }
+    checkpoints.after(p, last, infoAt, image);
     if (last) break;
   }
   fill(true);
-  // The budget ran out before the first pass began (e.g. in PPM's eye pass): the (black) image
-  // is still the run's last one.
-  if (checkpoint && !finalCheckpoint) budget.excluding([&] { checkpoint(image(), pi); });
+  checkpoints.finish(infoAt, image);  // e.g. the budget ended in PPM's eye pass: a black last image
   if (info) *info = pi;
   return image();
 }

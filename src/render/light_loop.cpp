@@ -5,6 +5,7 @@
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "integrators/integrator.h"
+#include "render/checkpoints.h"
 
 namespace pl {
 
@@ -39,7 +40,12 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   auto estimate = [&] { return total.image(done > 0 ? 1.0 / done : 0.0); };
 
   const int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
-  bool finalCheckpoint = false;
+  auto infoAt = [&](bool last) {
+    RenderInfo st;
+    fill(&st, last);
+    return st;
+  };
+  Checkpoints checkpoints(o, budget);
   for (int s = 0; s < target && !budget.expired(); ++s) {
     iteration.clear();
     std::atomic<bool> cut{false};
@@ -67,23 +73,10 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
     total.add(iteration);
     ++done;
     const bool last = done == target || budget.expired();
-    if (o.checkpoint && (isCheckpoint(done) || last)) {
-      budget.excluding([&] {
-        RenderInfo st;
-        fill(&st, last);
-        o.checkpoint(estimate(), st);
-      });
-      finalCheckpoint = last;
-    }
+    checkpoints.after(done, last, infoAt, estimate);
     if (last) break;
   }
-  if (o.checkpoint && !finalCheckpoint) {
-    budget.excluding([&] {
-      RenderInfo st;
-      fill(&st, true);
-      o.checkpoint(estimate(), st);
-    });
-  }
+  checkpoints.finish(infoAt, estimate);
   if (info) fill(info, true);
   return estimate();
 }

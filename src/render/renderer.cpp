@@ -10,6 +10,7 @@
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "render/camera_path.h"
+#include "render/checkpoints.h"
 #include "spectral/spectral.h"
 
 namespace pl {
@@ -89,7 +90,12 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   Progress progress(o.progress);
 
   int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
-  bool finalCheckpoint = false;
+  auto infoAt = [&](bool last) {
+    RenderInfo st;
+    fillStats(&st, last);
+    return st;
+  };
+  Checkpoints checkpoints(o, budget);
   for (int s = 0; s < target && !budget.expired(); ++s) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. The budget is polled per pixel.
@@ -114,25 +120,10 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     double t = budget.elapsed();
     progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
     bool last = taken == target || budget.expired();
-    if (o.checkpoint && (isCheckpoint(taken) || last)) {
-      budget.excluding([&] {
-        RenderInfo st;
-        fillStats(&st, last);
-        o.checkpoint(estimate(), st);
-      });
-      finalCheckpoint = last;
-    }
+    checkpoints.after(taken, last, infoAt, estimate);
     if (last) break;
   }
-  // The budget ran out before the first sample (in preprocessing): the (black) image is still
-  // the render's last one.
-  if (o.checkpoint && !finalCheckpoint) {
-    budget.excluding([&] {
-      RenderInfo st;
-      fillStats(&st, true);
-      o.checkpoint(estimate(), st);
-    });
-  }
+  checkpoints.finish(infoAt, estimate);
   if (stats) fillStats(stats, true);
   return estimate();
 }
