@@ -102,14 +102,6 @@ std::string ParamSet::format(const ParamSpec& s) const {
   return formatNumber(real(s.name));
 }
 
-std::vector<std::pair<std::string, std::string>> ParamSet::items() const {
-  std::vector<std::pair<std::string, std::string>> out;
-  if (!specs_) return out;
-  for (const ParamSpec& s : *specs_)
-    if (isSet(s.name)) out.emplace_back(s.name, format(s));
-  return out;
-}
-
 namespace params {
 
 ParamSpec maxDepth() {

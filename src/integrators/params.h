@@ -75,8 +75,6 @@ class ParamSet {
   int64_t integer(const std::string& name) const { return int64_t(real(name)); }
   std::string choice(const std::string& name) const;
 
-  // "name=value" per set parameter, in declaration order (numbers as formatNumber writes them).
-  std::vector<std::pair<std::string, std::string>> items() const;
   std::string format(const ParamSpec& spec) const;
 
  private:

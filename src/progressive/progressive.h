@@ -152,9 +152,11 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     fill(last);
     return pi;
   };
+  Progress progress(setup.image, unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
   Checkpoints checkpoints(setup.image, budget);
   for (int p = 1; p <= o.passes && !budget.expired(); ++p) {
     if (pass(p)) ++tracedPasses;
+    progress.update(p, budget.elapsed());
     bool last = p == o.passes || budget.expired();
     checkpoints.after(p, last, infoAt, image);
     if (last) break;

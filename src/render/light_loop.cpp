@@ -27,24 +27,22 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   SplatFilm total(W, H), iteration(W, H);
   std::vector<SplatBuffer> buffers;
   int done = 0;
-  auto fill = [&](RenderInfo* st, bool last) {
-    st->spp = done;
-    st->meanWork = done;
-    st->photons = uint64_t(done) * pathsPerIteration;
-    st->seconds = budget.elapsed();
-    st->nonFiniteSamples = total.nonFinite();
-    st->interrupted = interruptRequested();
-    st->timeUp = budget.timeUp();
-    st->last = last;
+  auto infoAt = [&](bool last) {
+    RenderInfo st;
+    st.spp = done;
+    st.meanWork = done;
+    st.photons = uint64_t(done) * pathsPerIteration;
+    st.seconds = budget.elapsed();
+    st.nonFiniteSamples = total.nonFinite();
+    st.interrupted = interruptRequested();
+    st.timeUp = budget.timeUp();
+    st.last = last;
+    return st;
   };
   auto estimate = [&] { return total.image(done > 0 ? 1.0 / done : 0.0); };
 
-  const int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
-  auto infoAt = [&](bool last) {
-    RenderInfo st;
-    fill(&st, last);
-    return st;
-  };
+  const int target = unitTarget(o.spp, o.timeLimit);
+  Progress progress(o, target);
   Checkpoints checkpoints(o, budget);
   for (int s = 0; s < target && !budget.expired(); ++s) {
     iteration.clear();
@@ -72,12 +70,13 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
     if (cut) break;  // this iteration is dropped whole
     total.add(iteration);
     ++done;
+    progress.update(done, budget.elapsed());
     const bool last = done == target || budget.expired();
     checkpoints.after(done, last, infoAt, estimate);
     if (last) break;
   }
   checkpoints.finish(infoAt, estimate);
-  if (info) fill(info, true);
+  if (info) *info = infoAt(true);
   return estimate();
 }
 

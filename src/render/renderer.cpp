@@ -22,31 +22,6 @@ void resolveResolution(const Camera& camera, RenderOptions& o) {
   if (o.height <= 0) o.height = std::max(1, int(std::lround(o.width / aspect)));
 }
 
-namespace {
-
-class Progress {
- public:
-  explicit Progress(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
-  void update(double fraction, double elapsed) {
-    if (!enabled_ || (elapsed - last_ < 0.1 && fraction < 1)) return;  // at most 10 updates/s
-    last_ = elapsed;
-    int width = 40, filled = int(fraction * width);
-    double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %6.1fs  ETA %6.1fs", filled, "########################################",
-                 width - filled, "", 100 * fraction, elapsed, eta);
-    std::fflush(stderr);
-  }
-  ~Progress() {
-    if (enabled_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  double last_ = -1;
-};
-
-}  // namespace
-
 ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions o, RenderInfo* stats) {
   Budget budget(o.timeLimit);  // started here: preprocessing counts towards the render time
   resolveResolution(scene.camera(), o);
@@ -74,27 +49,23 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     }
     return image;
   };
-  auto fillStats = [&](RenderInfo* st, bool last) {
-    PixelCounts counts = summarizeCounts(count);
-    st->spp = counts.all;
-    st->meanWork = counts.mean;
-    st->seconds = budget.elapsed();
-    st->nonFiniteSamples = 0;
-    for (auto n : nonFinite) st->nonFiniteSamples += n;
-    st->interrupted = interruptRequested();
-    st->timeUp = budget.timeUp();
-    st->last = last;
-    integrator.addInfo(scene, o, st);
-  };
-  integrator.preprocess(scene, o.seed, threads, budget);
-  Progress progress(o.progress);
-
-  int target = o.spp > 0 ? o.spp : (o.timeLimit > 0 ? INT32_MAX : 1);
   auto infoAt = [&](bool last) {
     RenderInfo st;
-    fillStats(&st, last);
+    PixelCounts counts = summarizeCounts(count);
+    st.spp = counts.all;
+    st.meanWork = counts.mean;
+    st.seconds = budget.elapsed();
+    for (auto n : nonFinite) st.nonFiniteSamples += n;
+    st.interrupted = interruptRequested();
+    st.timeUp = budget.timeUp();
+    st.last = last;
+    integrator.addInfo(scene, o, &st);
     return st;
   };
+  integrator.preprocess(scene, o.seed, threads, budget);
+
+  const int target = unitTarget(o.spp, o.timeLimit);
+  Progress progress(o, target);
   Checkpoints checkpoints(o, budget);
   for (int s = 0; s < target && !budget.expired(); ++s) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
@@ -117,14 +88,13 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
       }
     });
     const int taken = s + 1;
-    double t = budget.elapsed();
-    progress.update(o.spp > 0 ? double(taken) / o.spp : std::min(1.0, t / o.timeLimit), t);
+    progress.update(taken, budget.elapsed());
     bool last = taken == target || budget.expired();
     checkpoints.after(taken, last, infoAt, estimate);
     if (last) break;
   }
   checkpoints.finish(infoAt, estimate);
-  if (stats) fillStats(stats, true);
+  if (stats) *stats = infoAt(true);
   return estimate();
 }
 
