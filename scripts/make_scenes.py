@@ -295,8 +295,73 @@ def furnace(Le=1.0, albedo=0.5):
     return g
 
 
+# SmallVCM's Cornell box (Davidovič & Georgiev; scene.hxx LoadCornellBox), for the side-by-side
+# comparison of the bidirectional methods: the glossy floor (modified Phong, kd 0.1, ks 0.7,
+# exponent 90), blue back wall, a mirror and a glass (n = 1.6) sphere of radius 0.5. SmallVCM is
+# z-up; glTF is y-up: (x, y, z) -> (x, z, -y).
+def _svcm(p):
+    return [p[0], p[2], -p[1]]
+
+
+SVCM_BOX = [(-1.27029, 1.30455, -1.28002), (1.28975, 1.30455, -1.28002), (1.28975, 1.30455, 1.28002),
+            (-1.27029, 1.30455, 1.28002), (-1.27029, -1.25549, -1.28002), (1.28975, -1.25549, -1.28002),
+            (1.28975, -1.25549, 1.28002), (-1.27029, -1.25549, 1.28002)]
+SVCM_LIGHT_BOX = [(-0.25, 0.25, 1.26002), (0.25, 0.25, 1.26002), (0.25, 0.25, 1.28002), (-0.25, 0.25, 1.28002),
+                  (-0.25, -0.25, 1.26002), (0.25, -0.25, 1.26002), (0.25, -0.25, 1.28002), (-0.25, -0.25, 1.28002)]
+
+
+def _triangles(g, name, corners, tris, material):
+    positions, indices = [], []
+    for t in tris:
+        for k in t:
+            indices.append(len(positions))
+            positions.append(_svcm(corners[k]))
+    g.mesh(name, positions, indices, material)
+
+
+def smallvcm_box(light):
+    """SmallVCM's g_SceneConfigs[0] (light="sun": glossy floor, both small spheres, the
+    directional "sun", with the unlit light box under the ceiling) or [2] (light="point": the
+    same lit by a 70 W point light, without the light box)."""
+    g = Gltf()
+    cb = SVCM_BOX
+    floor = g.material("glossy floor", (0.8, 0.8, 0.8),
+                       extras={"phong": {"kd": [0.1, 0.1, 0.1], "ks": [0.7, 0.7, 0.7], "exponent": 90.0}})
+    white = g.material("white", (0.803922, 0.803922, 0.803922))
+    _triangles(g, "floor", cb, [(0, 4, 5), (5, 1, 0)], floor)
+    _triangles(g, "back wall", cb, [(0, 1, 2), (2, 3, 0)], g.material("blue", (0.156863, 0.172549, 0.803922)))
+    _triangles(g, "ceiling", cb, [(2, 6, 7), (7, 3, 2)], white)
+    _triangles(g, "left wall", cb, [(3, 7, 4), (4, 0, 3)], g.material("green", (0.156863, 0.803922, 0.172549)))
+    _triangles(g, "right wall", cb, [(1, 5, 6), (6, 2, 1)], g.material("red", (0.803922, 0.152941, 0.152941)))
+    radius = 0.5
+    left = [(cb[0][i] + cb[4][i]) / 2 for i in range(3)]
+    right = [(cb[1][i] + cb[5][i]) / 2 for i in range(3)]
+    xlen = right[0] - left[0]
+    mirror_centre = [left[0] + 2 * xlen / 7, left[1], left[2] + radius]
+    glass_centre = [right[0] - 2 * xlen / 7, right[1], right[2] + radius]
+    p, n, i = sphere(_svcm(mirror_centre), radius)
+    g.mesh("mirror sphere", p, i, g.material("mirror", (1, 1, 1), metallic=1.0, roughness=0.0), normals=n)
+    p, n, i = sphere(_svcm(glass_centre), radius)
+    g.mesh("glass sphere", p, i, g.material("glass", (1, 1, 1), glass_ior=1.6), normals=n)
+    if light == "sun":
+        _triangles(g, "light box", SVCM_LIGHT_BOX,
+                   [(0, 2, 1), (2, 0, 3), (3, 4, 7), (4, 3, 0), (1, 6, 5), (6, 1, 2), (4, 5, 6), (6, 7, 4),
+                    (0, 5, 4), (5, 0, 1)], white)
+        d = _svcm((-1.0, 1.5, -1.0))  # the direction the light travels
+        g.light({"name": "sun", "type": "directional", "color": [1.0, 0.4, 0.0], "intensity": 10.0},
+                [0.0, 2.0, 0.0], [d[0], 2.0 + d[1], d[2]])
+    else:
+        g.light({"name": "point", "type": "point", "color": [1, 1, 1], "intensity": 70.0 / (4 * math.pi)},
+                _svcm((0.0, -0.5, 1.0)))
+    eye = _svcm((-0.0439815, -4.12529, 0.222539))
+    forward = _svcm((0.00688625, 0.998505, -0.0542161))
+    g.camera(eye, [eye[i] + forward[i] for i in range(3)], math.radians(45.0))
+    return g
+
+
 SCENES = {"cornell-box": cornell_box, "cornell-spheres": cornell_spheres,
-          "glass-caustic": glass_caustic, "furnace": furnace, "prism": prism}
+          "glass-caustic": glass_caustic, "furnace": furnace, "prism": prism,
+          "smallvcm-sun": lambda: smallvcm_box("sun"), "smallvcm-point": lambda: smallvcm_box("point")}
 
 if __name__ == "__main__":
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")

@@ -117,11 +117,18 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   CheckpointInfo info;
   std::vector<std::string> warnings;
   uint64_t nonFinite = 0;
-  ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite);
+  std::vector<NamedImage> extras;
+  ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite, &extras);
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   auto meta = runMetadata(s, info, scenePath);
   if (info.interrupted) return writePartial(outputs, image, meta, info.seconds, display);
-  for (auto& o : outputs) writeImage(o, image, meta, display);
+  for (auto& o : outputs) {
+    writeImage(o, image, meta, display);
+    fs::path p(o);
+    for (const NamedImage& e : extras)  // OUT.s1t2.exr beside OUT.exr
+      writeImage((p.parent_path() / (p.stem().string() + "." + e.name + p.extension().string())).string(), e.image, meta,
+                 display);
+  }
   if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
   if (quiet) return 0;
   // The work done: "12 passes", or "12.4 passes (the budget ended pass 13 after 40% of the pixels)".

@@ -18,6 +18,13 @@
 
 namespace pl {
 
+// An image an integrator makes beside its radiance (e.g. bdpt's one image per technique); the
+// CLI writes it next to the output as OUT.<name>.ext.
+struct NamedImage {
+  std::string name;
+  ImageRGB image;
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -27,6 +34,8 @@ class Integrator {
   virtual const char* name() const = 0;
   // Things the user should know (e.g. "no photons were stored"), printed by the CLI.
   virtual std::vector<std::string> warnings() const { return {}; }
+  // Images beside the radiance, after render().
+  virtual std::vector<NamedImage> extraImages() const { return {}; }
 };
 
 // Camera-side integrators: the pixel value is the mean of Li over the pixel's samples.

@@ -1,0 +1,724 @@
+// Vertex connection and merging, with bidirectional path tracing and bidirectional photon
+// mapping as its two halves. Read top to bottom: the iteration's constants, the light subpaths
+// (stored, and connected to the camera), the camera subpaths (emission found, next-event
+// estimation, connections to the light subpath of the same index, merges with every light
+// vertex nearby), the render loop, the registration.
+//
+// Notation. A light subpath y₀ y₁ … has s vertices, a camera subpath z₀ z₁ … t vertices (z₀ the
+// pinhole); technique (s, t) joins them with one edge, so a path of k bounces (s + t − 2 = k)
+// has k + 3 techniques: s = 0 (the camera path hits an emitter), s = 1 (next-event estimation),
+// s ≥ 2 with t ≥ 2 (connect y_{s−1} to z_{t−1}), t = 1 (connect y_{s−1} to the camera: light
+// tracing, splatted). Merging joins y_{s−1} and z_{t−1} where they lie within r of each other: a
+// photon-map density estimate, unbiased only as r → 0.
+//
+// MIS. Each technique's weight is the power heuristic w_i = p_i² / Σ_j p_j² over all techniques
+// that could make the same path. Instead of re-walking the path for every p_j (O(n²)), each
+// subpath carries three running sums of pdf ratios (Georgiev 2012, "Implementing VCM", eqs.
+// 31–36), updated once per vertex:
+//   dVCM  the ratio for the technique that ends the subpath here (connect or merge at it),
+//   dVC   the sum for every connection further back along the subpath,
+//   dVM   the sum for every merge further back,
+// and a connection or merge weighs itself against both sides in O(1) (eqs. 37–45). With N
+// light paths an iteration, merging at a vertex is η = N·πr² times likelier than connecting
+// there (eq. 20); bdpt sets the merge terms to 0, bpm the connection terms.
+//
+// Densities are converted between solid angle and area with the geometric normal (the measure
+// the path lives in); the BSDF's cosines in the contributions are the shading normal's, and the
+// light side evaluates its BSDFs for importance, with Veach's shading-normal correction, as the
+// light tracer does. Russian roulette (on the throughput, as the path tracer and light tracer)
+// is left out of the weights: they are still a partition of unity for every path, which is all
+// unbiasedness needs.
+#include "integrators/bidirectional.h"
+
+#include <atomic>
+#include <cmath>
+
+#include "core/interrupt.h"
+#include "core/memory.h"
+#include "core/parallel.h"
+#include "integrators/registry.h"
+#include "photon/hash_grid.h"
+#include "progressive/progressive.h"
+#include "render/camera_path.h"
+#include "render/checkpoints.h"
+
+namespace pl {
+
+namespace {
+// The power heuristic's exponent β = 2 (Veach 1997 §9.2.4), applied to every pdf ratio.
+inline float Mis(float ratio) { return ratio * ratio; }
+// A dispersive refraction scales the hero wavelength by the number of wavelengths (3) and zeroes
+// the others; a path whose two halves both did so must count that scale once.
+constexpr float kWavelengths = 3.0f;
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// One iteration's constants (tech. rep. §4.3). N light paths, one camera path per pixel.
+struct VertexConnectionMerging::Iteration {
+  int width = 0, height = 0;
+  float pixels = 0;      // W·H
+  float lightPaths = 0;  // N (= W·H)
+  float radius = 0;
+  float misVm = 0;           // Mis(η), η = N·πr²: merging over connecting at one vertex
+  float misVc = 0;           // Mis(1/η)
+  float vmNormalization = 0; // 1/(N·πr²): the uniform kernel, over N paths
+};
+
+// A subpath being traced. dVCM, dVC, dVM as above; `specular`: every scattering so far was a
+// delta lobe (then only emission can find the path under bpm).
+struct VertexConnectionMerging::SubPath {
+  Ray ray;
+  Spectrum beta{1.0f};  // camera: ∏ f cos / pdf; light: flux carried (W)
+  Spectrum throughput{1.0f};  // light: ∏ f cos / pdf alone, for Russian roulette
+  float etaScale = 1.0f;
+  int length = 0;  // edges so far
+  bool specular = true;
+  bool finiteLight = true;  // false after a directional light's emission: no distance on its first edge
+  float dVCM = 0, dVC = 0, dVM = 0;
+  SampledWavelengths lambda;
+};
+
+// A diffuse or glossy vertex of a light subpath, kept for connections and merges.
+struct VertexConnectionMerging::LightVertex {
+  SurfaceHit hit;
+  Vec3 wo;        // world, towards y_{s−2}: where the light came from
+  Spectrum beta;  // flux arriving
+  int length;     // edges from the light: the vertex is y_length, s = length + 1
+  float dVCM, dVC, dVM;
+  bool heroOnly;
+};
+
+// Contributions, whole and (for --aov strategies) per technique.
+struct Sink {
+  Spectrum total{0.0f};
+  std::vector<Spectrum>* perStrategy = nullptr;
+  void add(int index, const Spectrum& v) {
+    total += v;
+    if (perStrategy) (*perStrategy)[size_t(index)] += v;
+  }
+};
+struct SplatSink {
+  SplatBuffer* all = nullptr;
+  std::vector<SplatBuffer>* perStrategy = nullptr;  // one per technique
+};
+
+class VertexConnectionMerging::Tracer {
+ public:
+  Tracer(const Scene& scene, const BidirectionalOptions& o, const Iteration& it) : scene_(scene), o_(o), it_(it) {}
+
+  // The weight of technique (s, t): its MIS weight, or under --only-s/--only-t 1 for that one
+  // technique and 0 for the others.
+  float weigh(int s, int t, float mis) const {
+    if (o_.onlyS < 0) return mis;
+    return s == o_.onlyS && t == o_.onlyT ? 1.0f : 0.0f;
+  }
+
+  // ----- light subpaths ----------------------------------------------------------------------
+
+  void traceLightPath(Rng& rng, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
+    const AliasTable& lights = scene_.lightDistribution();
+    if (lights.size() == 0 || lights.total() <= 0) return;
+    float pick;
+    const Light& light = *scene_.lights()[lights.sample(rng.uniform(), &pick)];
+    Vec2 uPosition(rng.uniform(), rng.uniform()), uDirection(rng.uniform(), rng.uniform());
+    EmittedRay e = light.sampleLe(uPosition, uDirection, lambda);
+    if (!(e.pdfPos * e.pdfDir > 0) || isBlack(e.flux) || !isFinite(e.flux)) return;
+    // y₀: chosen by next-event estimation with area density directPdfA (a directional light's
+    // direction is a delta: 1), emitted towards y₁ with emissionPdfW (tech. rep. eqs. 31–33, 48–50).
+    const float directPdfA = pick * (light.isDeltaDirection() ? 1.0f : e.pdfPos);
+    const float emissionPdfW = pick * e.pdfPos * e.pdfDir;
+    const float cosLight = light.isDeltaPosition() ? 1.0f : std::abs(glm::dot(e.n, e.ray.d));
+    SubPath path;
+    path.lambda = lambda;
+    path.ray = e.ray;
+    path.ray.tmin = scene_.epsilon();  // area lights emit from their own triangle
+    path.beta = e.flux / pick;
+    path.finiteLight = !light.isDeltaDirection();
+    path.dVCM = Mis(directPdfA / emissionPdfW);
+    path.dVC = light.isDelta() ? 0.0f : Mis(cosLight / emissionPdfW);  // no ray hits a delta light: no s = 0
+    path.dVM = path.dVC * it_.misVc;
+
+    if (o_.connect && !light.isDelta()) emissionToCamera(light, e, pick, directPdfA, path.lambda, splat);
+
+    for (path.length = 1; path.length <= o_.maxDepth; ++path.length) {
+      SurfaceHit hit;
+      if (!scene_.intersect(path.ray, &hit)) return;
+      const Vec3 wo = -path.ray.d;
+      // Complete the partial weights with this edge (eqs. 31–33): the distance and the cosine
+      // at y turn the previous vertex's solid-angle densities into area densities at y. A
+      // directional light's first edge has no distance: its y₁ density is pdfPos·cos.
+      const float cosIn = std::abs(glm::dot(wo, hit.ng));
+      if (path.length > 1 || path.finiteLight) path.dVCM *= Mis(hit.t * hit.t);
+      path.dVCM /= Mis(cosIn);
+      path.dVC /= Mis(cosIn);
+      path.dVM /= Mis(cosIn);
+
+      if (!hit.bsdf->isDelta()) {
+        LightVertex v{hit, wo, path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly};
+        if (o_.merge || o_.connect) vertices->push_back(v);
+        if (o_.connect) connectToCamera(v, path.lambda, splat);  // t = 1
+      }
+      if (path.length + 1 > o_.maxDepth) return;
+      if (!scatter(hit, wo, TransportMode::Importance, rng, path)) return;
+      // Russian roulette from the 4th vertex, as the light tracer.
+      if (path.length >= 3) {
+        float q = std::min(1.0f, maxComponent(path.throughput));
+        if (!(q > 0) || rng.uniform() >= q) return;
+        path.beta /= q;
+        path.throughput /= q;
+      }
+      if (!isFinite(path.beta)) return;
+    }
+  }
+
+  // (s, t) = (1, 1): the emission point y₀ seen by the camera, against the camera ray finding it
+  // (s = 0, t = 2). Their densities, per pixel and per light path: camera N·p_cam,A(y₀)... as the
+  // camera's importance is normalised over the image, its area density at y₀ per pixel is
+  // W·H · pdf_dir · cos y₀ / d², and the light's is N · directPdfA.
+  void emissionToCamera(const Light& light, const EmittedRay& e, float pick, float directPdfA,
+                        const SampledWavelengths& lambda, SplatSink& splat) const {
+    CameraSample cs;
+    const Camera& camera = scene_.camera();
+    if (!camera.sampleWi(e.ray.o, it_.width, it_.height, &cs)) return;
+    Spectrum Le = light.L(e.ray.o, cs.wi, lambda);
+    if (isBlack(Le)) return;
+    const float cosY = std::abs(glm::dot(e.n, cs.wi));
+    const float cameraPdfA = cameraAreaPdf(cs, cosY);
+    const float w = weigh(1, 1, 1.0f / (1.0f + Mis(cameraPdfA / (it_.lightPaths * directPdfA))));
+    if (w == 0) return;
+    SurfaceHit y;
+    y.p = e.ray.o;
+    y.ng = e.n;
+    if (!scene_.visible(y, cs.wi, cs.distance)) return;
+    addSplat(splat, 1, 1, cs.raster, Le * (w * cosY * cs.We / (pick * e.pdfPos * cs.pdf)), lambda);
+  }
+
+  // (s, t) = (length + 1, 1): light tracing. The camera's per-pixel area density of having
+  // made this vertex, over N light paths, against everything the light subpath holds (eq. 46).
+  void connectToCamera(const LightVertex& v, const SampledWavelengths& lambda, SplatSink& splat) const {
+    const SurfaceHit& hit = v.hit;
+    CameraSample cs;
+    if (!scene_.camera().sampleWi(hit.p, it_.width, it_.height, &cs)) return;
+    if (glm::dot(cs.wi, hit.ng) * glm::dot(v.wo, hit.ng) <= 0) return;
+    const Vec3 woLocal = hit.shading.toLocal(v.wo), wiLocal = hit.shading.toLocal(cs.wi);
+    const BSDFContext bc(hit.uv, lambda, TransportMode::Importance);
+    Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc) *
+                 shadingNormalCorrection(woLocal, wiLocal, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+    if (isBlack(f)) return;
+    const float cameraPdfA = cameraAreaPdf(cs, std::abs(glm::dot(cs.wi, hit.ng)));
+    const float revPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
+    const float wLight = Mis(cameraPdfA / it_.lightPaths) * (it_.misVm + v.dVCM + v.dVC * Mis(revPdf));
+    const int s = v.length + 1;
+    const float w = weigh(s, 1, 1.0f / (wLight + 1.0f));
+    if (w == 0 || !scene_.visible(hit, cs.wi, cs.distance)) return;
+    addSplat(splat, s, 1, cs.raster, v.beta * f * (w * std::abs(wiLocal.z) * cs.We / cs.pdf), lambda);
+  }
+
+  // ----- camera subpaths ---------------------------------------------------------------------
+
+  // The camera path of pixel `pixel`; connects to light vertices [lightBegin, lightEnd) (the
+  // light subpath of the same index), merges with all of them through the grid.
+  void traceCameraPath(CameraPath& c, const std::vector<LightVertex>& lights, size_t lightBegin, size_t lightEnd,
+                       const HashGrid* grid, Sink& sink) const {
+    SubPath path;
+    path.lambda = c.lambda;
+    path.ray = c.ray;
+    // z₁'s density, per pixel: W·H · pdf_dir (the camera's is normalised over the image); its
+    // ratio to the N light paths that could splat it (eq. 31).
+    float pdfPos, pdfDir;
+    scene_.camera().pdfWe(path.ray.d, it_.width, it_.height, &pdfPos, &pdfDir);
+    path.dVCM = Mis(it_.lightPaths / (it_.pixels * pdfDir));
+    Rng& rng = c.rng;
+    for (path.length = 1;; ++path.length) {
+      SurfaceHit hit;
+      if (!scene_.intersect(path.ray, &hit)) return;
+      const Vec3 wo = -path.ray.d;
+      const float cosIn = std::abs(glm::dot(wo, hit.ng));
+      path.dVCM *= Mis(hit.t * hit.t);
+      path.dVCM /= Mis(cosIn);
+      path.dVC /= Mis(cosIn);
+      path.dVM /= Mis(cosIn);
+
+      if (hit.light) emission(hit, wo, path, sink);  // s = 0, t = length + 1
+      if (path.length > o_.maxDepth) return;          // no technique from here is short enough
+
+      if (!hit.bsdf->isDelta()) {
+        const Vec3 woLocal = hit.shading.toLocal(wo);
+        if (o_.connect) {
+          directIllumination(hit, woLocal, path, rng, sink);  // s = 1
+          for (size_t i = lightBegin; i < lightEnd; ++i) {
+            const LightVertex& v = lights[i];
+            if (v.length + 1 + path.length > o_.maxDepth + 1) break;  // stored in order of length
+            connect(hit, woLocal, path, v, sink);
+          }
+        }
+        if (o_.merge && grid) merge(hit, woLocal, path, lights, *grid, sink);
+      }
+      if (!scatter(hit, wo, TransportMode::Radiance, rng, path)) return;
+      // Russian roulette from the 4th vertex, as the path tracer.
+      if (path.length >= 4) {
+        float q = russianRouletteSurvival(path.beta, path.etaScale);
+        if (!(q > 0) || rng.uniform() >= q) return;
+        path.beta /= q;
+      }
+    }
+  }
+
+  // s = 0: the camera path found an emitter. Its rivals: next-event estimation at this point
+  // (directPdfA) and the light subpath emitting towards the previous camera vertex (emissionPdfW),
+  // then everything further back (eqs. 42–43). bpm has neither: it keeps only the paths that
+  // nothing can merge, the purely specular ones.
+  void emission(const SurfaceHit& hit, const Vec3& wo, const SubPath& path, Sink& sink) const {
+    Spectrum Le = hit.light->L(wo, path.lambda);
+    if (isBlack(Le)) return;
+    const int t = path.length + 1;
+    float mis;
+    if (o_.connect) {
+      const float pick = scene_.lightDistribution().pmf(size_t(hit.lightIndex));
+      float pdfPos, pdfDir;
+      hit.light->pdfLe(Ray{hit.p, wo}, hit.ng, &pdfPos, &pdfDir);
+      const float directPdfA = pick * pdfPos, emissionPdfW = pick * pdfPos * pdfDir;
+      mis = 1.0f / (1.0f + Mis(directPdfA) * path.dVCM + Mis(emissionPdfW) * path.dVC);
+    } else {
+      mis = path.specular ? 1.0f : 0.0f;
+    }
+    const float w = weigh(0, t, mis);
+    if (w != 0) sink.add(strategyIndex(0, t), path.beta * Le * w);
+  }
+
+  // s = 1: next-event estimation. Rivals: the BSDF sampling the light (wLight; never a delta
+  // light), and the light subpath of one more vertex with everything further back (wCamera,
+  // eqs. 44–45). The latter's first factor is the density of y₀ emitting towards z over the
+  // density of choosing y₀: pdfDir·cos z/d², or pdfPos·cos z for a directional light.
+  void directIllumination(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, Rng& rng, Sink& sink) const {
+    const AliasTable& lights = scene_.lightDistribution();
+    if (lights.size() == 0 || lights.total() <= 0) return;
+    float pick;
+    const Light& light = *scene_.lights()[lights.sample(rng.uniform(), &pick)];
+    Vec2 u(rng.uniform(), rng.uniform());
+    LightSample ls;
+    if (!light.sampleLi(hit.p, u, path.lambda, &ls)) return;
+    const Vec3 wo = hit.shading.toWorld(woLocal);
+    if (glm::dot(ls.wi, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;
+    const Vec3 wiLocal = hit.shading.toLocal(ls.wi);
+    const BSDFContext bc(hit.uv, path.lambda);
+    Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc);
+    if (isBlack(f)) return;
+    const float cosZ = std::abs(glm::dot(ls.wi, hit.ng));
+    const Vec3 y = std::isinf(ls.distance) ? hit.p : hit.p + ls.wi * ls.distance;
+    float pdfPos, pdfDir;
+    light.pdfLe(Ray{y, -ls.wi}, Vec3(0.0f), &pdfPos, &pdfDir);
+    const float emissionRatio = light.isDeltaDirection() ? pdfPos * cosZ : pdfDir * cosZ / (ls.distance * ls.distance);
+    const float bsdfDirPdf = light.isDelta() ? 0.0f : hit.bsdf->pdf(woLocal, wiLocal, bc);
+    const float bsdfRevPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
+    const float wLight = Mis(bsdfDirPdf / (pick * ls.pdf));
+    const float wCamera = Mis(emissionRatio) * (it_.misVm + path.dVCM + path.dVC * Mis(bsdfRevPdf));
+    const int t = path.length + 1;
+    const float w = weigh(1, t, 1.0f / (wLight + 1.0f + wCamera));
+    if (w == 0 || !scene_.visible(hit, ls.wi, ls.distance)) return;
+    sink.add(strategyIndex(1, t), path.beta * f * ls.Li * (w * std::abs(wiLocal.z) / (pick * ls.pdf)));
+  }
+
+  // s, t ≥ 2: connect z (camera) to y (light vertex). Each side's density of having made the
+  // other's vertex, in area measure, scales that side's running sums (eqs. 40–41).
+  void connect(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const LightVertex& v, Sink& sink) const {
+    Vec3 d = v.hit.p - hit.p;
+    const float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0)) return;
+    const float dist = std::sqrt(dist2);
+    d /= dist;
+    const Vec3 wo = hit.shading.toWorld(woLocal);
+    if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // reflection-only BSDFs
+    if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0) return;
+    const Vec3 wiLocal = hit.shading.toLocal(d);
+    const BSDFContext cc(hit.uv, path.lambda);
+    Spectrum fCamera = hit.bsdf->eval(woLocal, wiLocal, cc);
+    if (isBlack(fCamera)) return;
+    const Vec3 lightWo = v.hit.shading.toLocal(v.wo), lightWi = v.hit.shading.toLocal(-d);
+    const BSDFContext lc(v.hit.uv, path.lambda, TransportMode::Importance);
+    Spectrum fLight = v.hit.bsdf->eval(lightWo, lightWi, lc) *
+                      shadingNormalCorrection(lightWo, lightWi, v.hit.shading.toLocal(v.hit.ng), TransportMode::Importance);
+    if (isBlack(fLight)) return;
+    const float cosCamera = std::abs(glm::dot(d, hit.ng)), cosLight = std::abs(glm::dot(d, v.hit.ng));
+    const float cameraDirPdfA = hit.bsdf->pdf(woLocal, wiLocal, cc) * cosLight / dist2;
+    const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);
+    const float lightDirPdfA = v.hit.bsdf->pdf(lightWo, lightWi, lc) * cosCamera / dist2;
+    const float lightRevPdf = v.hit.bsdf->pdf(lightWi, lightWo, lc);
+    const float wLight = Mis(cameraDirPdfA) * (it_.misVm + v.dVCM + v.dVC * Mis(lightRevPdf));
+    const float wCamera = Mis(lightDirPdfA) * (it_.misVm + path.dVCM + path.dVC * Mis(cameraRevPdf));
+    const int s = v.length + 1, t = path.length + 1;
+    float w = weigh(s, t, 1.0f / (wLight + 1.0f + wCamera));
+    if (w == 0) return;
+    if (path.lambda.heroOnly && v.heroOnly) w /= kWavelengths;
+    // G with the shading cosines (the BSDFs' own), the geometric ones only in the densities.
+    const float G = std::abs(wiLocal.z) * std::abs(lightWi.z) / dist2;
+    if (!scene_.visible(hit, d, dist)) return;
+    sink.add(strategyIndex(s, t), path.beta * fCamera * fLight * v.beta * (w * G));
+  }
+
+  // Merging at z: the photon-map estimate Σ f(z, ωy) Φy / (N πr²) over the light vertices within
+  // r, each weighed against connecting at either end and merging elsewhere (eqs. 37–39).
+  void merge(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const std::vector<LightVertex>& lights,
+             const HashGrid& grid, Sink& sink) const {
+    const Vec3 wo = hit.shading.toWorld(woLocal);
+    const BSDFContext cc(hit.uv, path.lambda);
+    Spectrum sum(0.0f);
+    grid.query(hit.p, [&](uint32_t index) {
+      const LightVertex& v = lights[index];
+      if (v.length + path.length > o_.maxDepth + 1) return;
+      if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // the other side of the surface
+      const Vec3 wiLocal = hit.shading.toLocal(v.wo);
+      Spectrum f = hit.bsdf->eval(woLocal, wiLocal, cc);
+      if (isBlack(f)) return;
+      const float cameraDirPdf = hit.bsdf->pdf(woLocal, wiLocal, cc);
+      const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);
+      const float wLight = v.dVCM * it_.misVc + v.dVM * Mis(cameraDirPdf);
+      const float wCamera = path.dVCM * it_.misVc + path.dVM * Mis(cameraRevPdf);
+      float w = 1.0f / (wLight + 1.0f + wCamera);
+      if (path.lambda.heroOnly && v.heroOnly) w /= kWavelengths;
+      sum += f * v.beta * w;
+    });
+    if (!isBlack(sum)) sink.add(-1, path.beta * sum * it_.vmNormalization);
+  }
+
+  // ----- shared --------------------------------------------------------------------------------
+
+  // Samples the next direction and updates the partial weights for it (eqs. 34–36): the new
+  // vertex's dVCM is 1/pdf_dir (its area form is completed at the next hit); dVC and dVM gather
+  // the reverse density of the edge just walked. A delta lobe has equal forward and reverse
+  // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
+  // measure.
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Rng& rng, SubPath& path) const {
+    BSDFSample bs;
+    const Vec3 woLocal = hit.shading.toLocal(wo);
+    const BSDFContext bc(hit.uv, path.lambda, mode);
+    Vec2 u(rng.uniform(), rng.uniform());
+    if (!hit.bsdf->sample(woLocal, bc, u, rng.uniform(), &bs)) return false;
+    if (bs.terminatesSecondary) path.lambda.terminateSecondary();
+    const Vec3 wi = hit.shading.toWorld(bs.wi);
+    const bool transmitted = bs.wi.z * woLocal.z < 0;
+    if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return false;  // light leak
+    const float cosOut = std::abs(glm::dot(wi, hit.ng));
+    if (bs.delta) {
+      path.dVCM = 0.0f;
+      path.dVC *= Mis(cosOut);
+      path.dVM *= Mis(cosOut);
+    } else {
+      if (!(bs.pdf > 0)) return false;
+      const float revPdf = hit.bsdf->pdf(bs.wi, woLocal, bc);
+      path.dVC = Mis(cosOut / bs.pdf) * (path.dVC * Mis(revPdf) + path.dVCM + it_.misVm);
+      path.dVM = Mis(cosOut / bs.pdf) * (path.dVM * Mis(revPdf) + path.dVCM * it_.misVc + 1.0f);
+      path.dVCM = Mis(1.0f / bs.pdf);
+    }
+    Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), mode);
+    path.beta *= weight;
+    path.throughput *= weight;
+    path.etaScale *= bs.eta * bs.eta;
+    path.specular = path.specular && bs.delta;
+    path.ray = scene_.spawnRay(hit, wi);
+    return !isBlack(path.beta);
+  }
+
+ private:
+  // The camera's area density at a scene point, per pixel (its importance is normalised over
+  // the image, so per pixel it is W·H times the image's): W·H · pdf_dir · cos / d².
+  float cameraAreaPdf(const CameraSample& cs, float cosAtPoint) const {
+    float pdfPos, pdfDir;
+    scene_.camera().pdfWe(-cs.wi, it_.width, it_.height, &pdfPos, &pdfDir);
+    return it_.pixels * pdfDir * cosAtPoint / (cs.distance * cs.distance);
+  }
+  void addSplat(SplatSink& splat, int s, int t, const Vec2& raster, const Spectrum& v,
+                const SampledWavelengths& lambda) const {
+    Spectrum rgb = lambda.spectral ? spectralToRGB(v, lambda.lambda) : v;
+    splat.all->add(raster, it_.width, rgb);
+    if (splat.perStrategy) (*splat.perStrategy)[size_t(strategyIndex(s, t))].add(raster, it_.width, rgb);
+  }
+
+  const Scene& scene_;
+  const BidirectionalOptions& o_;
+  const Iteration& it_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The loop: iteration i traces N = W·H light subpaths (chunks in parallel, vertices and splats
+// kept per chunk and joined in chunk order), builds the grid over their vertices (merging), then
+// one camera subpath per pixel. Random streams are keyed by (seed, path or pixel, iteration),
+// so the image is the same whatever the thread count. An iteration the budget cuts short is
+// dropped whole.
+ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
+  Budget budget(options.timeLimit);
+  RenderOptions o = options;
+  resolveResolution(scene.camera(), o);
+  const int W = o.width, H = o.height;
+  const size_t pixels = size_t(W) * H;
+  const int threads = resolveThreads(o.threads);
+  const int strategies = o_.strategies ? strategyCount(o_.maxDepth) : 0;
+  checkMemory(mulSaturate(pixels, (6 + 3 * uint64_t(strategies)) * sizeof(double) + 3 * sizeof(float)),
+              std::to_string(W) + "x" + std::to_string(H) + " film");
+  const uint64_t lightStream = mix64(o.seed ^ 0x76636d6c69676874ULL);  // "vcmlight"
+  const uint64_t lambdaStream = mix64(o.seed ^ 0x7663636c616d6264ULL);
+
+  std::vector<double> cameraSum(pixels * 3, 0.0);
+  std::vector<Spectrum> iterationColor(pixels);
+  std::vector<double> strategySum(size_t(strategies) * pixels * 3, 0.0);
+  std::vector<Spectrum> iterationStrategies(size_t(strategies) * pixels);
+  SplatFilm splatTotal(W, H), splatIteration(W, H);
+  std::vector<SplatFilm> strategySplats(size_t(strategies), SplatFilm(W, H));
+  const size_t chunkSize = 4096, chunks = (pixels + chunkSize - 1) / chunkSize;
+  std::vector<std::vector<LightVertex>> chunkVertices(chunks);
+  std::vector<std::vector<uint32_t>> chunkEnds(chunks);  // per path: one past its last vertex, in the chunk
+  std::vector<SplatBuffer> chunkSplats(chunks);
+  std::vector<std::vector<SplatBuffer>> chunkStrategySplats(o_.strategies ? chunks : 0);
+  std::vector<LightVertex> vertices;
+  std::vector<uint32_t> pathBegin(pixels + 1);
+  HashGrid grid;
+
+  // Without a radius (an integrator made outside the CLI's resolve step): the default.
+  const float radius1 = o_.radius > 0 ? o_.radius : (o_.merge ? defaultRadius(scene, W, H).footprint : 0.0f);
+  int done = 0;
+  float radius = radius1;
+  uint64_t nonFinite = 0;
+  auto infoAt = [&](bool last) {
+    RenderInfo st;
+    st.spp = done;
+    st.meanWork = done;
+    st.photons = uint64_t(done) * pixels;
+    st.seconds = budget.elapsed();
+    st.meanRadius = o_.merge ? radius : 0.0;
+    st.nonFiniteSamples = nonFinite + splatTotal.nonFinite();
+    st.interrupted = interruptRequested();
+    st.timeUp = budget.timeUp();
+    st.last = last;
+    return st;
+  };
+  auto estimate = [&] {
+    ImageRGB image = splatTotal.image(done > 0 ? 1.0 / done : 0.0);
+    for (size_t i = 0; i < pixels * 3; ++i) image.data[i] += done > 0 ? float(cameraSum[i] / done) : 0.0f;
+    return image;
+  };
+
+  const int target = unitTarget(o.spp, o.timeLimit);
+  Progress progress(o, target);
+  Checkpoints checkpoints(o, budget);
+  for (int iteration = 0; iteration < target && !budget.expired(); ++iteration) {
+    Iteration it;
+    it.width = W, it.height = H;
+    it.pixels = float(pixels);
+    it.lightPaths = float(pixels);
+    // r_i = r₁ · i^((α−1)/2) (Knaus & Zwicker 2011), i from 1.
+    radius = std::max(1e-7f, radius1 * std::pow(float(iteration + 1), 0.5f * (o_.alpha - 1.0f)));
+    it.radius = radius;
+    const float eta = it.lightPaths * kPi * radius * radius;
+    it.misVm = o_.merge ? Mis(eta) : 0.0f;
+    it.misVc = o_.connect ? Mis(1.0f / eta) : 0.0f;
+    it.vmNormalization = 1.0f / eta;
+    Tracer tracer(scene, o_, it);
+    // Wavelengths: a merge joins paths of different pixels, so with merging the whole
+    // iteration shares one set, and the iterations' sets follow a randomly shifted Kronecker
+    // sequence (u_i = u₀ + i/φ mod 1), uniform for each iteration and stratified across them,
+    // so that few iterations already cover the spectrum; bdpt pairs light path i with pixel i
+    // and gives each pair its own.
+    const double uIteration = std::fmod(Rng::keyed(lambdaStream, 0, 0).uniform() + 0.6180339887498949 * iteration, 1.0);
+    auto wavelengths = [&](uint64_t path) {
+      if (!o.spectral) return SampledWavelengths();
+      if (o_.merge) return SampledWavelengths::sample(std::min(float(uIteration), 0.99999994f));
+      return SampledWavelengths::sample(Rng::keyed(lambdaStream, path, uint64_t(iteration)).uniform());
+    };
+
+    // 1. Light subpaths.
+    std::atomic<bool> cut{false};
+    parallelFor(chunks, threads, [&](size_t k, int) {
+      std::vector<LightVertex>& verts = chunkVertices[k];
+      std::vector<uint32_t>& ends = chunkEnds[k];
+      verts.clear();
+      ends.clear();
+      chunkSplats[k].clear();
+      if (o_.strategies) chunkStrategySplats[k].assign(size_t(strategies), SplatBuffer());
+      if (cut || budget.expired()) {
+        cut = true;
+        return;
+      }
+      SplatSink sink{&chunkSplats[k], o_.strategies ? &chunkStrategySplats[k] : nullptr};
+      const size_t begin = k * chunkSize, end = std::min(pixels, begin + chunkSize);
+      for (size_t i = begin; i < end; ++i) {
+        Rng rng = Rng::keyed(lightStream, i, uint64_t(iteration));
+        tracer.traceLightPath(rng, wavelengths(i), &verts, sink);
+        ends.push_back(uint32_t(verts.size()));
+      }
+    });
+    if (cut) break;
+    vertices.clear();
+    for (size_t k = 0, path = 0; k < chunks; ++k) {
+      const uint32_t offset = uint32_t(vertices.size());
+      for (uint32_t e : chunkEnds[k]) pathBegin[++path] = offset + e;
+      vertices.insert(vertices.end(), chunkVertices[k].begin(), chunkVertices[k].end());
+    }
+    pathBegin[0] = 0;
+
+    // 2. The grid over every stored light vertex.
+    if (o_.merge) grid.build(vertices.size(), [&](size_t i) { return vertices[i].hit.p; }, radius);
+
+    // 3. Camera subpaths, one per pixel, rows in parallel.
+    std::vector<uint64_t> rowNonFinite(size_t(H), 0);
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      if (cut || budget.expired()) {
+        cut = true;
+        return;
+      }
+      std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
+      for (int x = 0; x < W; ++x) {
+        const size_t pixel = y * size_t(W) + size_t(x);
+        RenderOptions plain = o;
+        plain.spectral = false;
+        CameraPath c = beginCameraPath(scene, plain, x, int(y), uint64_t(iteration), JitterOrder::XThenY);
+        c.lambda = wavelengths(pixel);
+        std::fill(perStrategy.begin(), perStrategy.end(), Spectrum(0.0f));
+        Sink sink;
+        sink.perStrategy = o_.strategies ? &perStrategy : nullptr;
+        tracer.traceCameraPath(c, vertices, pathBegin[pixel], pathBegin[pixel + 1], o_.merge ? &grid : nullptr, sink);
+        auto toRGB = [&](const Spectrum& v) { return o.spectral ? spectralToRGB(v, c.lambda.lambda) : v; };
+        Spectrum rgb = toRGB(sink.total);
+        if (!isFinite(rgb)) {
+          ++rowNonFinite[y];
+          rgb = Spectrum(0.0f);
+        }
+        iterationColor[pixel] = rgb;
+        for (int i = 0; i < strategies; ++i) {
+          Spectrum v = toRGB(perStrategy[size_t(i)]);
+          iterationStrategies[size_t(i) * pixels + pixel] = isFinite(v) ? v : Spectrum(0.0f);
+        }
+      }
+    });
+    if (cut) break;
+
+    for (size_t i = 0; i < pixels; ++i)
+      for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)] += iterationColor[i][ch];
+    for (uint64_t n : rowNonFinite) nonFinite += n;
+    splatIteration.clear();
+    splatIteration.add(chunkSplats);
+    splatTotal.add(splatIteration);
+    for (int s = 0; s < strategies; ++s) {
+      for (size_t i = 0; i < pixels; ++i)
+        for (int ch = 0; ch < 3; ++ch)
+          strategySum[(size_t(s) * pixels + i) * 3 + size_t(ch)] += iterationStrategies[size_t(s) * pixels + i][ch];
+      for (size_t k = 0; k < chunks; ++k) strategySplats[size_t(s)].add(std::vector<SplatBuffer>{chunkStrategySplats[k][size_t(s)]});
+    }
+    ++done;
+    progress.update(done, budget.elapsed());
+    const bool last = done == target || budget.expired();
+    checkpoints.after(done, last, infoAt, estimate);
+    if (last) break;
+  }
+  checkpoints.finish(infoAt, estimate);
+  if (info) *info = infoAt(true);
+
+  strategyImages_.clear();
+  for (int k = 0; k <= o_.maxDepth && o_.strategies; ++k)
+    for (int s = 0; s <= k + 1; ++s) {
+      const int t = k + 2 - s, index = strategyIndex(s, t);
+      ImageRGB image = strategySplats[size_t(index)].image(done > 0 ? 1.0 / done : 0.0);
+      for (size_t i = 0; i < pixels * 3; ++i)
+        image.data[i] += done > 0 ? float(strategySum[size_t(index) * pixels * 3 + i] / done) : 0.0f;
+      strategyImages_.push_back({"s" + std::to_string(s) + "t" + std::to_string(t), std::move(image)});
+    }
+  return estimate();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Registration: the three algorithms and their parameters.
+namespace {
+
+ParamSpec iterations() {
+  ParamSpec s = params::spp();
+  s.doc = "iterations: each traces W·H light subpaths and one camera subpath per pixel";
+  return s;
+}
+
+ParamSpec mergeAlpha() {
+  ParamSpec s = params::alpha();
+  s.doc = "radius reduction: r_i = r_1 · i^((alpha-1)/2)";
+  s.defaultValue = "0.75";
+  s.defaultDoc = "0.75";
+  return s;
+}
+
+ParamSpec mergeRadius() {
+  ParamSpec s = params::progressiveRadius();
+  s.doc = "initial merge radius r_1 in metres";
+  s.defaultDoc = "one pixel footprint at the median visible distance";
+  return s;
+}
+
+// The merge radius: one pixel's footprint at the median visible distance (a bias no larger than
+// the pixel, as SmallVCM's 0.3% of the scene radius is at 512² in its Cornell box).
+std::string resolveMergeRadius(const Scene& scene, int width, int height, ParamSet& params) {
+  if (params.isSet("radius")) return "initial merge radius " + formatNumber(float(params.real("radius"))) + " m";
+  DefaultRadius r = defaultRadius(scene, width, height);
+  params.resolve("radius", r.footprint);
+  return "initial merge radius " + formatNumber(r.footprint) + " m (default: one pixel footprint at the median visible distance " +
+         formatNumber(r.distance) + " m)";
+}
+
+BidirectionalOptions common(const ParamSet& p) {
+  BidirectionalOptions o;
+  o.maxDepth = int(p.integer("max_depth"));
+  if (p.has("radius")) o.radius = float(p.real("radius"));
+  if (p.has("alpha")) o.alpha = float(p.real("alpha"));
+  return o;
+}
+
+ParamSpec strategyAov() {
+  ParamSpec s{"aov", ParamType::Choice,
+              "strategies: also write OUT.s<S>t<T>.ext, each technique's weighted share (they sum to the image)", "radiance"};
+  s.choices = {"radiance", "strategies"};
+  return s;
+}
+
+ParamSpec onlyStrategy(const char* name, const char* doc) {
+  ParamSpec s{name, ParamType::Integer, doc};
+  s.defaultDoc = "every technique, weighted";
+  s.lo = 0, s.hi = 64;
+  return s;
+}
+
+const IntegratorRegistration bdpt({
+    "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power-heuristic MIS",
+    {iterations(), params::maxDepth(), strategyAov(),
+     onlyStrategy("only_s", "debug: render technique (s, t) alone, unweighted: its light vertices s (with only_t)"),
+     onlyStrategy("only_t", "debug: its camera vertices t, the pinhole included (with only_s)")},
+    [](const ParamSet& p, const RenderOptions&) {
+      BidirectionalOptions o = common(p);
+      o.strategies = p.choice("aov") == "strategies";
+      if (p.isSet("only_s") != p.isSet("only_t")) throw Error("--only-s and --only-t go together");
+      if (p.isSet("only_s")) {
+        o.onlyS = int(p.integer("only_s"));
+        o.onlyT = int(p.integer("only_t"));
+        if (o.onlyT < 1) throw Error("--only-t: a technique has at least the camera's vertex, t >= 1");
+      }
+      return std::make_unique<VertexConnectionMerging>(o, "bdpt");
+    }});
+
+const IntegratorRegistration bpm({
+    "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
+    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha()},
+    [](const ParamSet& p, const RenderOptions&) {
+      BidirectionalOptions o = common(p);
+      o.connect = false;
+      o.merge = true;
+      return std::make_unique<VertexConnectionMerging>(o, "bpm");
+    },
+    resolveMergeRadius});
+
+const IntegratorRegistration vcm({
+    "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
+    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha()},
+    [](const ParamSet& p, const RenderOptions&) {
+      BidirectionalOptions o = common(p);
+      o.merge = true;
+      return std::make_unique<VertexConnectionMerging>(o, "vcm");
+    },
+    resolveMergeRadius});
+
+}  // namespace
+
+}  // namespace pl

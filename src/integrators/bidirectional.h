@@ -1,0 +1,53 @@
+// Bidirectional estimators in one class, as the "Implementing Vertex Connection and Merging"
+// technical report (Georgiev 2012) lays them out:
+//   bdpt  Veach's bidirectional path tracer (Veach & Guibas 1995): vertex connection only;
+//   bpm   bidirectional photon mapping (Vorba 2011): vertex merging only, MIS over merge depths;
+//   vcm   vertex connection and merging (Georgiev, Křivánek, Davidovič & Slusallek 2012): both.
+// See bidirectional.cpp for the algorithm, top to bottom.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+
+namespace pl {
+
+struct BidirectionalOptions {
+  bool connect = true;  // vertex connection: s = 0, 1, t = 1 and every s, t ≥ 2 connection
+  bool merge = false;   // vertex merging: a density estimate at every diffuse or glossy camera vertex
+  int maxDepth = 16;    // bounces: a path has at most maxDepth + 1 segments, as the path tracer's
+  float radius = 0.0f;  // initial merge radius r₁ (m)
+  float alpha = 0.75f;  // r_i = r₁ · i^((α−1)/2)
+  // Debugging the estimator (bdpt): one image per technique (s, t), weighted (strategies); or
+  // one technique alone, unweighted (onlyS, onlyT ≥ 0), which must converge to the paths of
+  // length s + t − 1 on its own.
+  bool strategies = false;
+  int onlyS = -1, onlyT = -1;
+};
+
+class VertexConnectionMerging final : public Integrator {
+ public:
+  VertexConnectionMerging(const BidirectionalOptions& options, std::string name)
+      : o_(options), name_(std::move(name)) {}
+  ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;
+  const char* name() const override { return name_.c_str(); }
+  std::vector<NamedImage> extraImages() const override { return strategyImages_; }
+
+  // Techniques are numbered by path depth k = s + t − 2 (bounces), then s = 0 … k + 1.
+  static int strategyIndex(int s, int t) {
+    const int k = s + t - 2;
+    return k * (k + 3) / 2 + s;
+  }
+  static int strategyCount(int maxDepth) { return strategyIndex(0, maxDepth + 3); }
+
+ private:
+  struct Iteration;
+  struct SubPath;
+  struct LightVertex;
+  class Tracer;
+  BidirectionalOptions o_;
+  std::string name_;
+  std::vector<NamedImage> strategyImages_;
+};
+
+}  // namespace pl
