@@ -1,5 +1,7 @@
 // Small scenes with closed-form answers, built in code.
 #pragma once
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 #include <functional>
 #include <vector>
@@ -120,5 +122,27 @@ inline PixelAgreement pixelAgreement(const ImageRGB& a, const ImageRGB& b, const
   return {ratio[ratio.size() / 2], sum / (2 * mean * W * H), t[size_t(0.99 * (t.size() - 1))]};
 }
 
+// The mirror caustic rendered by `render(scene, seed)` at 24×24 pixels with seeds 1 and 2,
+// against its closed form per pixel. Only the light side reaches the mirror-image term (9% of the
+// direct one under the light); a pixel's splats or merges are a Poisson count of ~12 at 512
+// paths per pixel, so its noise is ~30% and the mean over 2 × 576 pixels is good to ~1%.
+// Accepted: the mean within 1 ± 0.03 of the closed form (the image without the caustic term is
+// 5% or more away), the median ratio within 1 ± 0.05 (a Poisson count of ~12 has its median ~3%
+// below its mean), the 99th percentile of the per-pixel |t| below 4.5 (pixelAgreement).
+template <typename RenderFn>
+void checkMirrorCaustic(RenderFn&& render) {
+  MirrorCaustic mc;
+  auto scene = mc.build();
+  const int W = 24;
+  ImageRGB withCaustic = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return mc.radiance(x); });
+  ImageRGB withoutCaustic = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return mc.radiance(x, false); });
+  REQUIRE(meanOf(withCaustic) / meanOf(withoutCaustic) > 1.05);
+  ImageRGB a = render(*scene, W, uint64_t(1)), b = render(*scene, W, uint64_t(2));
+  PixelAgreement pa = pixelAgreement(a, b, withCaustic);
+  INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+  CHECK(pa.meanRatio == Approx(1.0).margin(0.03));
+  CHECK(pa.medianRatio == Approx(1.0).margin(0.05));
+  CHECK(pa.p99t < 4.5);
+}
 
 }  // namespace pl::test

@@ -30,26 +30,10 @@ ImageRGB renderLight(const Scene& scene, int W, int spp, uint64_t seed = 1, int 
 }  // namespace
 
 TEST_CASE("light tracing: the mirror caustic of a point light - E = I/h² + R·I/(2H − h)² per pixel - which the path tracer cannot render") {
-  // scene_helpers' MirrorCaustic: a point light between a diffuse floor and a mirror. The
-  // mirror-image term is 9% of the direct one under the light: a path tracer never finds it (no
-  // ray hits a point light), the light tracer's paths that bounce off the mirror splat it.
-  // 24×24 pixels, 512 paths per pixel, seeds 1 and 2. Only ~2% of the paths land in view, ~12
-  // splats a pixel: per-pixel noise ~30%, so the mean over 2 × 576 pixels is good to ~1%.
-  // Accepted: the mean within 1 ± 0.03 of the closed form (the image without the caustic term
-  // is 5% or more away), and per pixel, as the lights' tests (pixelAgreement): median ratio
-  // within 1 ± 0.05 (a Poisson count of ~12 has its median ~3% below its mean), p99 |t| < 4.5.
-  MirrorCaustic mc;
-  auto scene = mc.build();
-  const int W = 24;
-  ImageRGB withCaustic = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return mc.radiance(x); });
-  ImageRGB withoutCaustic = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return mc.radiance(x, false); });
-  REQUIRE(meanOf(withCaustic) / meanOf(withoutCaustic) > 1.05);
-  ImageRGB a = renderLight(*scene, W, 512, 1), b = renderLight(*scene, W, 512, 2);
-  PixelAgreement pa = pixelAgreement(a, b, withCaustic);
-  INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
-  CHECK(pa.meanRatio == Approx(1.0).margin(0.03));
-  CHECK(pa.medianRatio == Approx(1.0).margin(0.05));
-  CHECK(pa.p99t < 4.5);
+  // scene_helpers' MirrorCaustic: a point light between a diffuse floor and a mirror; a path
+  // tracer never finds the mirror-image term (no ray hits a point light), the light tracer's
+  // paths that bounce off the mirror splat it. 512 paths per pixel; only ~2% of them land in view.
+  checkMirrorCaustic([](const Scene& scene, int W, uint64_t seed) { return renderLight(scene, W, 512, seed); });
 }
 
 TEST_CASE("light tracing: the closed furnace converges to L = Le/(1 − ρ) = 2") {

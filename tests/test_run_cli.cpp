@@ -347,3 +347,42 @@ spp = 256
   CHECK(rows[9][8] == std::to_string(256 * 8 * height));
   CHECK(std::stod(rows[9][12]) == Approx(1.0).margin(0.1));  // mean_ratio against the reference
 }
+
+TEST_CASE("render: vcm and bdpt stop within 1 s of SIGINT, mid-iteration - the whole iterations are the partial image") {
+  // At 768² an iteration (768² light paths, then a camera path per pixel) takes about a second
+  // on 2 cores; the signal comes 1.5 s after the start. The loops poll the budget every chunk of
+  // 4096 light paths and every row of camera paths, and drop the iteration they were in.
+  GltfFixture f;
+  const std::string dir = GltfFixture::dir(), scene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf";
+  for (const char* integrator : {"vcm", "bdpt"}) {
+    INFO(integrator);
+    fs::remove(dir + "/sig3.partial.exr");
+    double latency = 0;
+    Result r = photonlab({"render", scene, "--integrator", integrator, "--width", "768", "--spp", "1000", "-o", dir + "/sig3.exr"},
+                         "", SIGINT, 1.5, &latency);
+    INFO(r.err);
+    CHECK(r.code == 130);
+    CHECK(latency < 1.0);
+    CHECK_FALSE(fs::exists(dir + "/sig3.exr"));
+    REQUIRE(fs::exists(dir + "/sig3.partial.exr"));
+    CHECK_THAT(photonlab({"info", dir + "/sig3.partial.exr"}).out, Contains("\"partial\": 1"));
+  }
+}
+
+TEST_CASE("render: bdpt --aov strategies writes OUT.s<S>t<T>.exr beside OUT.exr, one per technique up to max_depth") {
+  GltfFixture f;
+  const std::string dir = GltfFixture::dir(), scene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
+  for (const char* name : {"st", "st.s0t2", "st.s1t1", "st.s2t1", "st.s0t3", "st.s1t2", "st.s3t1", "st.s0t4"})
+    fs::remove(dir + "/" + name + ".exr");
+  Result r = photonlab({"render", scene, "--integrator", "bdpt", "--aov", "strategies", "--max-depth", "1", "--spp", "2",
+                        "--width", "16", "-q", "-o", dir + "/st.exr"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (const char* name : {"st", "st.s0t2", "st.s1t1", "st.s0t3", "st.s1t2", "st.s2t1"}) CHECK(fs::exists(dir + "/" + name + ".exr"));
+  CHECK_FALSE(fs::exists(dir + "/st.s3t1.exr"));  // depth 2: beyond max_depth 1
+  CHECK_FALSE(fs::exists(dir + "/st.s0t4.exr"));
+  // The option belongs to bdpt alone.
+  Result v = photonlab({"render", scene, "--integrator", "vcm", "--aov", "strategies", "-o", dir + "/st.exr"});
+  CHECK(v.code == 1);
+  CHECK_THAT(v.err, Contains("--aov: is not a parameter of integrator vcm"));
+}

@@ -88,6 +88,17 @@ struct VertexConnectionMerging::LightVertex {
   bool heroOnly;
 };
 
+// What merging needs of a light vertex, kept in the grid itself (photon/hash_grid.h).
+struct MergeVertex {
+  Vec3 p;
+  Vec3 wo;
+  Spectrum beta;
+  float dVCM, dVM;
+  int length;
+  bool heroOnly;
+};
+using MergeGrid = HashGrid<MergeVertex>;
+
 // Contributions, whole and (for --aov strategies) per technique.
 struct Sink {
   Spectrum total{0.0f};
@@ -216,10 +227,10 @@ class VertexConnectionMerging::Tracer {
 
   // ----- camera subpaths ---------------------------------------------------------------------
 
-  // The camera path of pixel `pixel`; connects to light vertices [lightBegin, lightEnd) (the
-  // light subpath of the same index), merges with all of them through the grid.
-  void traceCameraPath(CameraPath& c, const std::vector<LightVertex>& lights, size_t lightBegin, size_t lightEnd,
-                       const HashGrid* grid, Sink& sink) const {
+  // A camera path; connects to the light vertices [lights, lightsEnd) (the light subpath of the
+  // same index), merges with every light vertex through the grid.
+  void traceCameraPath(CameraPath& c, const LightVertex* lights, const LightVertex* lightsEnd, const MergeGrid* grid,
+                       Sink& sink) const {
     SubPath path;
     path.lambda = c.lambda;
     path.ray = c.ray;
@@ -246,13 +257,13 @@ class VertexConnectionMerging::Tracer {
         const Vec3 woLocal = hit.shading.toLocal(wo);
         if (o_.connect) {
           directIllumination(hit, woLocal, path, rng, sink);  // s = 1
-          for (size_t i = lightBegin; i < lightEnd; ++i) {
-            const LightVertex& v = lights[i];
+          for (const LightVertex* l = lights; l < lightsEnd; ++l) {
+            const LightVertex& v = *l;
             if (v.length + 1 + path.length > o_.maxDepth + 1) break;  // stored in order of length
             connect(hit, woLocal, path, v, sink);
           }
         }
-        if (o_.merge && grid) merge(hit, woLocal, path, lights, *grid, sink);
+        if (o_.merge && grid) merge(hit, woLocal, path, *grid, sink);
       }
       if (!scatter(hit, wo, TransportMode::Radiance, rng, path)) return;
       // Russian roulette from the 4th vertex, as the path tracer.
@@ -358,13 +369,11 @@ class VertexConnectionMerging::Tracer {
 
   // Merging at z: the photon-map estimate Σ f(z, ωy) Φy / (N πr²) over the light vertices within
   // r, each weighed against connecting at either end and merging elsewhere (eqs. 37–39).
-  void merge(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const std::vector<LightVertex>& lights,
-             const HashGrid& grid, Sink& sink) const {
+  void merge(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const MergeGrid& grid, Sink& sink) const {
     const Vec3 wo = hit.shading.toWorld(woLocal);
     const BSDFContext cc(hit.uv, path.lambda);
     Spectrum sum(0.0f);
-    grid.query(hit.p, [&](uint32_t index) {
-      const LightVertex& v = lights[index];
+    grid.query(hit.p, [&](const MergeVertex& v) {
       if (v.length + path.length > o_.maxDepth + 1) return;
       if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // the other side of the surface
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
@@ -441,7 +450,7 @@ class VertexConnectionMerging::Tracer {
 
 // ---------------------------------------------------------------------------------------------
 // The loop: iteration i traces N = W·H light subpaths (chunks in parallel, vertices and splats
-// kept per chunk and joined in chunk order), builds the grid over their vertices (merging), then
+// kept per chunk, splats added in chunk order), builds the grid over their vertices (merging), then
 // one camera subpath per pixel. Random streams are keyed by (seed, path or pixel, iteration),
 // so the image is the same whatever the thread count. An iteration the budget cuts short is
 // dropped whole.
@@ -469,9 +478,8 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   std::vector<std::vector<uint32_t>> chunkEnds(chunks);  // per path: one past its last vertex, in the chunk
   std::vector<SplatBuffer> chunkSplats(chunks);
   std::vector<std::vector<SplatBuffer>> chunkStrategySplats(o_.strategies ? chunks : 0);
-  std::vector<LightVertex> vertices;
-  std::vector<uint32_t> pathBegin(pixels + 1);
-  HashGrid grid;
+  MergeGrid grid;
+  std::vector<MergeVertex> mergeVertices;
 
   // Without a radius (an integrator made outside the CLI's resolve step): the default.
   const float radius1 = o_.radius > 0 ? o_.radius : (o_.merge ? defaultRadius(scene, W, H).footprint : 0.0f);
@@ -496,6 +504,10 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     for (size_t i = 0; i < pixels * 3; ++i) image.data[i] += done > 0 ? float(cameraSum[i] / done) : 0.0f;
     return image;
   };
+
+  RenderOptions rgbImage = o;  // camera rays as the per-pixel loop's; wavelengths drawn here
+  rgbImage.spectral = false;
+  rgbImage.checkpoint = nullptr;
 
   const int target = unitTarget(o.spp, o.timeLimit);
   Progress progress(o, target);
@@ -547,16 +559,14 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       }
     });
     if (cut) break;
-    vertices.clear();
-    for (size_t k = 0, path = 0; k < chunks; ++k) {
-      const uint32_t offset = uint32_t(vertices.size());
-      for (uint32_t e : chunkEnds[k]) pathBegin[++path] = offset + e;
-      vertices.insert(vertices.end(), chunkVertices[k].begin(), chunkVertices[k].end());
-    }
-    pathBegin[0] = 0;
 
     // 2. The grid over every stored light vertex.
-    if (o_.merge) grid.build(vertices.size(), [&](size_t i) { return vertices[i].hit.p; }, radius);
+    if (o_.merge) {
+      mergeVertices.clear();
+      for (const std::vector<LightVertex>& chunk : chunkVertices)
+        for (const LightVertex& v : chunk) mergeVertices.push_back({v.hit.p, v.wo, v.beta, v.dVCM, v.dVM, v.length, v.heroOnly});
+      grid.build(mergeVertices, radius);
+    }
 
     // 3. Camera subpaths, one per pixel, rows in parallel.
     std::vector<uint64_t> rowNonFinite(size_t(H), 0);
@@ -568,14 +578,17 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
       for (int x = 0; x < W; ++x) {
         const size_t pixel = y * size_t(W) + size_t(x);
-        RenderOptions plain = o;
-        plain.spectral = false;
-        CameraPath c = beginCameraPath(scene, plain, x, int(y), uint64_t(iteration), JitterOrder::XThenY);
+        CameraPath c = beginCameraPath(scene, rgbImage, x, int(y), uint64_t(iteration), JitterOrder::XThenY);
         c.lambda = wavelengths(pixel);
         std::fill(perStrategy.begin(), perStrategy.end(), Spectrum(0.0f));
         Sink sink;
         sink.perStrategy = o_.strategies ? &perStrategy : nullptr;
-        tracer.traceCameraPath(c, vertices, pathBegin[pixel], pathBegin[pixel + 1], o_.merge ? &grid : nullptr, sink);
+        // Light path `pixel`: in chunk pixel / chunkSize, after the vertices of the paths before it there.
+        const std::vector<LightVertex>& chunk = chunkVertices[pixel / chunkSize];
+        const std::vector<uint32_t>& ends = chunkEnds[pixel / chunkSize];
+        const size_t j = pixel % chunkSize;
+        const LightVertex* first = chunk.data() + (j == 0 ? 0 : ends[j - 1]);
+        tracer.traceCameraPath(c, first, chunk.data() + ends[j], o_.merge ? &grid : nullptr, sink);
         auto toRGB = [&](const Spectrum& v) { return o.spectral ? spectralToRGB(v, c.lambda.lambda) : v; };
         Spectrum rgb = toRGB(sink.total);
         if (!isFinite(rgb)) {

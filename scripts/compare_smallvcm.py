@@ -1,0 +1,138 @@
+#!/usr/bin/env python3
+"""photonlab's bidirectional methods beside SmallVCM's, on SmallVCM's own scenes, interleaved.
+
+SmallVCM (Davidovič & Georgiev, github.com/SmallVCM/SmallVCM) is the reference implementation of
+vertex connection and merging. This script builds it from a checkout (g++ -O3 -fopenmp, with one
+line changed so that it prints its iteration count), then renders SmallVCM's scene 0 (glossy
+Cornell box, mirror and glass spheres, directional "sun") and scene 2 (the same lit by a point
+light) with every method of both codebases for the same wall time at 512², 2 threads, one
+method of each codebase after the other so that both see the same machine state. photonlab
+renders scenes/smallvcm-sun.gltf and scenes/smallvcm-point.gltf, the same scenes in glTF
+(scripts/make_scenes.py; the spheres tessellated), with max_depth 9 (SmallVCM's 10 path
+segments).
+
+Each image's relMSE (photonlab compare's: mean of (x − r)²/(r² + 0.01)) is measured against a long
+reference of its own codebase: SmallVCM's images against a long SmallVCM vcm render, photonlab's
+against a long photonlab vcm render (1024 iterations, seed 1000; the geometry differs by the
+tessellation, so neither is the other's answer). The references are rendered first unless they
+are in OUT already.
+
+SmallVCM's -t counts process CPU seconds (clock()), so it gets -t 2·seconds for about `seconds`
+of wall time on 2 cores; the wall time each run took is measured here and reported.
+
+Usage: python3 scripts/compare_smallvcm.py --smallvcm-src DIR [--seconds 20] [--reference-iterations 1024]
+       [--reference-seconds 600]
+       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR]
+Prints a Markdown table (and writes it to OUT/table.md).
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+SCENES = {"sun": 0, "point": 2}
+# photonlab method : SmallVCM method ("" where the other codebase has no such method).
+PAIRS = [("path", "pt"), ("light", "lt"), ("ppm", "ppm"), ("bpm", "bpm"), ("bdpt", "bpt"), ("vcm", "vcm"),
+         ("sppm", ""), ("pppm", ""), ("photon", "")]
+
+
+def build_smallvcm(src, out):
+    """Copies SmallVCM's source to OUT/smallvcm-src, makes it print its iteration count, builds it."""
+    work = os.path.join(out, "smallvcm-src")
+    if os.path.exists(work):
+        shutil.rmtree(work)
+    shutil.copytree(src, work)
+    main = os.path.join(work, "src", "smallvcm.cxx")
+    text = open(main).read()
+    patched = text.replace("float time = render(config);\n    printf(\"done in %.2f s\\n\", time);",
+                           "int iterations = 0;\n    float time = render(config, &iterations);\n"
+                           "    printf(\"done in %.2f s, %d iterations\\n\", time, iterations - 1);")
+    if patched == text:
+        sys.exit("compare_smallvcm: %s: unrecognised src/smallvcm.cxx (cannot report iterations)" % src)
+    open(main, "w").write(patched)
+    binary = os.path.join(out, "smallvcm")
+    subprocess.run(["g++", "-O3", "-fopenmp", "-o", binary, main], check=True)
+    return binary
+
+
+def run_photonlab(photonlab, scene, method, seconds, output, seed=1, spp=0):
+    budget = ["--spp", str(spp)] if spp else ["--time", str(seconds)]
+    args = [photonlab, "render", os.path.join(ROOT, "scenes", "smallvcm-%s.gltf" % scene), "--integrator", method,
+            "--width", "512", "--threads", "2", "--seed", str(seed), "-o", output, "-q"] + budget
+    if method != "photon":
+        args += ["--max-depth", "9"]
+    start = time.monotonic()
+    subprocess.run(args, check=True)
+    wall = time.monotonic() - start
+    meta = json.loads(subprocess.run([photonlab, "info", output], check=True, capture_output=True, text=True).stdout)
+    work = meta.get("passes") or meta.get("spp")
+    return wall, "%s %s" % (work, "passes" if "passes" in meta else "iterations" if method in ("bdpt", "bpm", "vcm", "light") else "spp")
+
+
+def run_smallvcm(binary, scene, method, seconds, output):
+    start = time.monotonic()
+    r = subprocess.run([binary, "-s", str(SCENES[scene]), "-a", method, "-t", str(2 * seconds), "-o", output],
+                       check=True, capture_output=True, text=True)
+    wall = time.monotonic() - start
+    m = re.search(r"(\d+) iterations", r.stdout)
+    return wall, "%s iterations" % (m.group(1) if m else "?")
+
+
+def relmse(photonlab, image, reference):
+    r = subprocess.run([photonlab, "compare", image, reference], check=True, capture_output=True, text=True)
+    return json.loads(r.stdout.strip().splitlines()[-1])["relmse"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--smallvcm-src", required=True, help="a SmallVCM checkout (its src/ folder inside)")
+    ap.add_argument("--photonlab", default=os.path.join(ROOT, "build", "photonlab"))
+    ap.add_argument("--seconds", type=float, default=20.0, help="wall time per render")
+    ap.add_argument("--reference-iterations", type=int, default=1024, help="photonlab's reference: vcm iterations")
+    ap.add_argument("--reference-seconds", type=float, default=600.0, help="SmallVCM's reference: wall time")
+    ap.add_argument("--repeats", type=int, default=1, help="runs of each method (relMSE averaged)")
+    ap.add_argument("--methods", default="", help="photonlab:smallvcm pairs, e.g. bdpt:bpt,vcm:vcm (default: all)")
+    ap.add_argument("--scenes", default="sun,point")
+    ap.add_argument("--out", default="smallvcm-comparison")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    pairs = [tuple(p.split(":")) for p in a.methods.split(",")] if a.methods else PAIRS
+    binary = build_smallvcm(a.smallvcm_src, a.out)
+    rows = []
+    for scene in a.scenes.split(","):
+        ours_ref = os.path.join(a.out, "ref-photonlab-%s.exr" % scene)
+        theirs_ref = os.path.join(a.out, "ref-smallvcm-%s.hdr" % scene)
+        if not os.path.exists(ours_ref):
+            run_photonlab(a.photonlab, scene, "vcm", 0, ours_ref, seed=1000, spp=a.reference_iterations)
+        if not os.path.exists(theirs_ref):
+            run_smallvcm(binary, scene, "vcm", a.reference_seconds, theirs_ref)
+        for ours, theirs in pairs:
+            results = {}
+            for k in range(a.repeats):
+                if ours:
+                    out = os.path.join(a.out, "photonlab-%s-%s-%d.exr" % (scene, ours, k))
+                    wall, work = run_photonlab(a.photonlab, scene, ours, a.seconds, out, seed=k + 1)
+                    results.setdefault(("photonlab", ours), []).append((wall, work, relmse(a.photonlab, out, ours_ref)))
+                if theirs:
+                    out = os.path.join(a.out, "smallvcm-%s-%s-%d.hdr" % (scene, theirs, k))
+                    wall, work = run_smallvcm(binary, scene, theirs, a.seconds, out)
+                    results.setdefault(("SmallVCM", theirs), []).append((wall, work, relmse(a.photonlab, out, theirs_ref)))
+            for (code, method), runs in results.items():
+                mean = sum(r[2] for r in runs) / len(runs)
+                rows.append((scene, code, method, runs[-1][1], sum(r[0] for r in runs) / len(runs), mean))
+                print("%-6s %-10s %-6s %-22s %6.1f s  relMSE %.5f" % rows[-1], flush=True)
+    table = ["| scene | code | method | work done | wall time | relMSE |", "|---|---|---|---|---|---|"]
+    for scene, code, method, work, wall, err in rows:
+        table.append("| %s | %s | `%s` | %s | %.1f s | %.4f |" % (scene, code, method, work, wall, err))
+    text = "\n".join(table) + "\n"
+    open(os.path.join(a.out, "table.md"), "w").write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
