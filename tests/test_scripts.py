@@ -304,3 +304,31 @@ def test_readme_numbers_fill_marked_blocks_only(tmp_path):
     other.write_text("nothing marked\n")
     assert readme_numbers.main(["--readme", str(other), "--experiment", d]) == 2
     assert other.read_text() == "nothing marked\n"
+
+
+def test_strategy_grid_lays_techniques_out_by_depth_and_says_when_there_are_none(tmp_path):
+    # bdpt --aov strategies writes OUT.exr and OUT.s<S>t<T>.exr; the grid has one row per depth.
+    write_exr(str(tmp_path / "st.exr"), GREEN)
+    for s, t in [(0, 2), (1, 1), (0, 3), (1, 2), (2, 1)]:
+        write_exr(str(tmp_path / ("st.s%dt%d.exr" % (s, t))), RED)
+    out = tmp_path / "grid.png"
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "strategy_grid.py"), str(tmp_path / "st.exr"),
+                        "--out", str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    spec = oiio.ImageInput.open(str(out)).spec()
+    assert spec.height > 0 and spec.width > spec.height  # two rows (depths 0, 1) of four columns
+    write_exr(str(tmp_path / "lone.exr"), GREEN)
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "strategy_grid.py"), str(tmp_path / "lone.exr")],
+                       capture_output=True, text=True)
+    assert r.returncode != 0 and "--aov strategies" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_compare_smallvcm_refuses_a_source_it_cannot_patch(tmp_path):
+    # The script changes one line of SmallVCM's main to report iterations; a different source
+    # is a one-line error, not a table without iteration counts.
+    src = tmp_path / "svcm" / "src"
+    src.mkdir(parents=True)
+    (src / "smallvcm.cxx").write_text("int main() { return 0; }\n")
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "compare_smallvcm.py"), "--smallvcm-src",
+                        str(tmp_path / "svcm"), "--out", str(tmp_path / "out")], capture_output=True, text=True)
+    assert r.returncode != 0 and "unrecognised src/smallvcm.cxx" in r.stderr
