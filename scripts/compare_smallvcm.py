@@ -2,8 +2,10 @@
 """photonlab's bidirectional methods beside SmallVCM's, on SmallVCM's own scenes, interleaved.
 
 SmallVCM (Davidovič & Georgiev, github.com/SmallVCM/SmallVCM) is the reference implementation of
-vertex connection and merging. This script builds it from a checkout (g++ -O3 -fopenmp, with one
-line changed so that it prints its iteration count), then renders SmallVCM's scene 0 (glossy
+vertex connection and merging. This script builds it from a checkout (g++ -O3 -fopenmp, with two
+lines changed: it prints its iteration count, and takes its seed from SMALLVCM_SEED, so that
+repeats are independent runs as photonlab's seeds are; its own is fixed at 1234, which its
+reference keeps, so runs use 2000, 2100, ...), then renders SmallVCM's scene 0 (glossy
 Cornell box, mirror and glass spheres, directional "sun") and scene 2 (the same lit by a point
 light) with every method of both codebases for the same wall time at 512², 2 threads, one
 method of each codebase after the other so that both see the same machine state. photonlab
@@ -57,6 +59,13 @@ def build_smallvcm(src, out):
     if patched == text:
         sys.exit("compare_smallvcm: %s: unrecognised src/smallvcm.cxx (cannot report iterations)" % src)
     open(main, "w").write(patched)
+    config = os.path.join(work, "src", "config.hxx")
+    text = open(config).read()
+    patched = text.replace("oConfig.mBaseSeed      = 1234;",
+                           "oConfig.mBaseSeed      = getenv(\"SMALLVCM_SEED\") ? atoi(getenv(\"SMALLVCM_SEED\")) : 1234;")
+    if patched == text:
+        sys.exit("compare_smallvcm: %s: unrecognised src/config.hxx (cannot set the seed)" % src)
+    open(config, "w").write("#include <cstdlib>\n" + patched)
     binary = os.path.join(out, "smallvcm")
     subprocess.run(["g++", "-O3", "-fopenmp", "-o", binary, main], check=True)
     return binary
@@ -75,10 +84,10 @@ def run_photonlab(photonlab, scene, method, seconds, output, seed=1, spp=0):
     return wall, "%s %s" % (work, "passes" if "passes" in meta else "iterations" if method in ("bdpt", "bpm", "vcm", "light") else "spp")
 
 
-def run_smallvcm(binary, scene, method, seconds, output):
+def run_smallvcm(binary, scene, method, seconds, output, seed=1234):
     start = time.monotonic()
     r = subprocess.run([binary, "-s", str(SCENES[scene]), "-a", method, "-t", str(2 * seconds), "-o", output],
-                       check=True, capture_output=True, text=True)
+                       check=True, capture_output=True, text=True, env=dict(os.environ, SMALLVCM_SEED=str(seed)))
     wall = time.monotonic() - start
     m = re.search(r"(\d+) iterations", r.stdout)
     return wall, "%s iterations" % (m.group(1) if m else "?")
@@ -121,7 +130,7 @@ def main():
                     results.setdefault(("photonlab", ours), []).append((wall, work, relmse(a.photonlab, out, ours_ref)))
                 if theirs:
                     out = os.path.join(a.out, "smallvcm-%s-%s-%d.hdr" % (scene, theirs, k))
-                    wall, work = run_smallvcm(binary, scene, theirs, a.seconds, out)
+                    wall, work = run_smallvcm(binary, scene, theirs, a.seconds, out, seed=2000 + 100 * k)
                     results.setdefault(("SmallVCM", theirs), []).append((wall, work, relmse(a.photonlab, out, theirs_ref)))
             for (code, method), runs in results.items():
                 mean = sum(r[2] for r in runs) / len(runs)
