@@ -92,7 +92,8 @@ def experiment_block(results_dir):
     return "\n".join(lines) + "\n"
 
 
-SHIPPED = ["quickstart", "caustics-equal-time", "kernels", "final-gather", "progressive-alpha"]
+SHIPPED = ["quickstart", "caustics-equal-time", "kernels", "final-gather", "progressive-alpha", "bidirectional",
+           "bidirectional-point"]
 
 
 def shipped_block(results_root):
