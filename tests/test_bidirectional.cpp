@@ -41,39 +41,6 @@ std::unique_ptr<Scene> sceneFile(const char* name) {
   return loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + name + ".gltf");
 }
 
-// Two estimators a and b of one image, each rendered with two seeds, compared over B×B regions:
-// z = (mean_a − mean_b)/√(var_a + var_b), the variances from the seeds' per-pixel differences.
-struct RegionAgreement {
-  double worst = 0, meanZ2 = 0;
-};
-RegionAgreement regions(const ImageRGB& a1, const ImageRGB& a2, const ImageRGB& b1, const ImageRGB& b2, int B,
-                        double floor = 0) {
-  const int W = a1.width, H = a1.height;
-  RegionAgreement r;
-  int n = 0;
-  for (int by = 0; by < H / B; ++by)
-    for (int bx = 0; bx < W / B; ++bx)
-      for (int c = 0; c < 3; ++c) {
-        double ma = 0, mb = 0, va = 0, vb = 0;
-        for (int y = by * B; y < (by + 1) * B; ++y)
-          for (int x = bx * B; x < (bx + 1) * B; ++x) {
-            size_t i = (size_t(y) * W + x) * 3 + c;
-            ma += (a1.data[i] + a2.data[i]) / 2, mb += (b1.data[i] + b2.data[i]) / 2;
-            double da = a1.data[i] - a2.data[i], db = b1.data[i] - b2.data[i];
-            va += da * da / 2, vb += db * db / 2;
-          }
-        const double k = double(B) * B;
-        const double sigma = std::sqrt((va + vb) / (k * k) / 2);
-        if (sigma <= floor) continue;  // nothing there (black regions) in either
-        double z = (ma / k - mb / k) / sigma;
-        r.worst = std::max(r.worst, std::abs(z));
-        r.meanZ2 += z * z;
-        ++n;
-      }
-  r.meanZ2 /= std::max(1, n);
-  return r;
-}
-
 }  // namespace
 
 TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 with bdpt, vcm and bpm - in RGB and spectral") {

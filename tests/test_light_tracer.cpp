@@ -76,29 +76,10 @@ TEST_CASE("light tracing agrees with the path tracer region by region on the Cor
   };
   ImageRGB l1 = renderLight(*scene, W, 256, 1), l2 = renderLight(*scene, W, 256, 2);
   ImageRGB p1 = renderPath(1), p2 = renderPath(2);
-  double sumZ2 = 0, worst = 0;
-  int regions = 0;
-  for (int by = 0; by < W / B; ++by)
-    for (int bx = 0; bx < W / B; ++bx)
-      for (int c = 0; c < 3; ++c) {
-        double ml = 0, mp = 0, vl = 0, vp = 0;
-        for (int y = by * B; y < (by + 1) * B; ++y)
-          for (int x = bx * B; x < (bx + 1) * B; ++x) {
-            size_t i = (size_t(y) * W + x) * 3 + c;
-            ml += (l1.data[i] + l2.data[i]) / 2, mp += (p1.data[i] + p2.data[i]) / 2;
-            double dl = l1.data[i] - l2.data[i], dp = p1.data[i] - p2.data[i];
-            vl += dl * dl / 2, vp += dp * dp / 2;
-          }
-        const double n = B * B;
-        double z = (ml / n - mp / n) / std::sqrt((vl + vp) / (n * n) / 2);
-        INFO("region (" << bx << ", " << by << ") channel " << c << ": light " << ml / n << ", path " << mp / n << ", z " << z);
-        CHECK(std::abs(z) < 4.0);
-        worst = std::max(worst, std::abs(z));
-        sumZ2 += z * z;
-        ++regions;
-      }
-  INFO("mean z² " << sumZ2 / regions << ", worst |z| " << worst);
-  CHECK(sumZ2 / regions < 3.0);
+  RegionAgreement r = regions(l1, l2, p1, p2, B);
+  INFO("mean z² " << r.meanZ2 << ", worst |z| " << r.worst);
+  CHECK(r.worst < 4.0);
+  CHECK(r.meanZ2 < 3.0);
   CHECK((meanOf(l1) + meanOf(l2)) / (meanOf(p1) + meanOf(p2)) == Approx(1.0).epsilon(0.015));
 }
 
