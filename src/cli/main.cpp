@@ -118,7 +118,8 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   std::vector<std::string> warnings;
   uint64_t nonFinite = 0;
   std::vector<NamedImage> extras;
-  ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite, &extras);
+  std::vector<std::string> notes;
+  ImageRGB image = renderRun(*scene, s, checkpoint, &info, &warnings, &nonFinite, &extras, &notes);
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   auto meta = runMetadata(s, info, scenePath);
   if (info.interrupted) return writePartial(outputs, image, meta, info.seconds, display);
@@ -131,6 +132,7 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   }
   if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
   if (quiet) return 0;
+  for (auto& n : notes) std::fprintf(stderr, "%s: %s\n", s.integrator.c_str(), n.c_str());
   // The work done: "12 passes", or "12.4 passes (the budget ended pass 13 after 40% of the pixels)".
   const int whole = progressive ? info.passes : info.spp;
   std::string work = std::to_string(whole) + (progressive ? " passes" : " spp");

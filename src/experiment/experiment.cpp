@@ -26,7 +26,8 @@ extern const char* const kGitRevision;  // generated at build time (scripts/git_
 // One run, whatever the integrator family.
 
 ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpointFn& checkpoint, CheckpointInfo* final,
-                   std::vector<std::string>* warnings, uint64_t* nonFiniteSamples, std::vector<NamedImage>* extraImages) {
+                   std::vector<std::string>* warnings, uint64_t* nonFiniteSamples, std::vector<NamedImage>* extraImages,
+                   std::vector<std::string>* notes) {
   RenderOptions o = s.renderOptions();
   auto integrator = makeIntegrator(s.integrator, s.params, o);
   o.checkpoint = checkpoint;
@@ -35,6 +36,7 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& s, const RunCheckpoint
   if (warnings)
     for (auto& w : integrator->warnings()) warnings->push_back(w);
   if (extraImages) *extraImages = integrator->extraImages();
+  if (notes) *notes = integrator->notes();
   info.last = true;
   if (final) *final = info;
   if (nonFiniteSamples) *nonFiniteSamples = info.nonFiniteSamples;

@@ -19,10 +19,10 @@ using RunCheckpointFn = std::function<void(const ImageRGB&, const CheckpointInfo
 // Renders `settings` on `scene`, calling `checkpoint` after 1, 2, 4, ... samples or passes and for
 // the last image. Warnings (e.g. "no photons stored")
 // are appended to `warnings`; the integrator's images beside the radiance (bdpt's techniques) to
-// `extraImages`.
+// `extraImages`; what it says of its work (Integrator::notes) to `notes`.
 ImageRGB renderRun(const Scene& scene, const RunSettings& settings, const RunCheckpointFn& checkpoint,
                    CheckpointInfo* final, std::vector<std::string>* warnings, uint64_t* nonFiniteSamples = nullptr,
-                   std::vector<NamedImage>* extraImages = nullptr);
+                   std::vector<NamedImage>* extraImages = nullptr, std::vector<std::string>* notes = nullptr);
 
 // The image metadata photonlab writes for a run (read back by `photonlab info IMAGE.exr`): the
 // integrator's declared parameters (under their metadata keys), then what the render reports.

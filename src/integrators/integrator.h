@@ -34,6 +34,9 @@ class Integrator {
   virtual const char* name() const = 0;
   // Things the user should know (e.g. "no photons were stored"), printed by the CLI.
   virtual std::vector<std::string> warnings() const { return {}; }
+  // What the render did that a summary line has no room for (radiosity's patch count, solve
+  // time), printed by the CLI after it as "NAME: note".
+  virtual std::vector<std::string> notes() const { return {}; }
   // Images beside the radiance, after render().
   virtual std::vector<NamedImage> extraImages() const { return {}; }
 };

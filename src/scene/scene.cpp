@@ -160,23 +160,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   ++rayCounter.count;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-  const Triangle& tri = triangles_[rh.hit.primID];
-  float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;  // Embree: p = b0 v0 + u v1 + v v2
+  *hit = surfaceAt(rh.hit.primID, rh.hit.u, rh.hit.v);  // Embree: p = (1 − u − v) v0 + u v1 + v v2
   hit->t = rh.ray.tfar;
-  hit->p = b0 * positions_[tri.v[0]] + b1 * positions_[tri.v[1]] + b2 * positions_[tri.v[2]];
-  hit->ng = faceNormals_[rh.hit.primID];
-  Vec3 ns = hit->ng;
-  if (tri.smooth) {
-    Vec3 n = b0 * normals_[tri.v[0]] + b1 * normals_[tri.v[1]] + b2 * normals_[tri.v[2]];
-    float len = glm::length(n);
-    if (len > 0) ns = n / len;
-  }
-  hit->shading = Frame(ns);
-  hit->uv = tri.hasUV ? b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
-  hit->primitive = rh.hit.primID;
-  hit->bsdf = materials_[tri.material].bsdf.get();
-  hit->lightIndex = tri.light;
-  hit->light = tri.light >= 0 ? static_cast<const AreaLight*>(lights_[tri.light].get()) : nullptr;
   return true;
 }
 
@@ -200,6 +185,33 @@ bool Scene::occluded(const Ray& ray) const {
   rtcOccluded1(rtcScene_, &context, &r);
   ++rayCounter.count;
   return r.tfar < 0.0f;  // Embree sets tfar = −inf when something was hit
+}
+
+SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {
+  const Triangle& tri = triangles_[primitive];
+  float b0 = 1.0f - b1 - b2;
+  SurfaceHit hit;
+  hit.p = b0 * positions_[tri.v[0]] + b1 * positions_[tri.v[1]] + b2 * positions_[tri.v[2]];
+  hit.ng = faceNormals_[primitive];
+  Vec3 ns = hit.ng;
+  if (tri.smooth) {
+    Vec3 n = b0 * normals_[tri.v[0]] + b1 * normals_[tri.v[1]] + b2 * normals_[tri.v[2]];
+    float len = glm::length(n);
+    if (len > 0) ns = n / len;
+  }
+  hit.shading = Frame(ns);
+  hit.uv = tri.hasUV ? b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
+  hit.barycentric = Vec2(b1, b2);
+  hit.primitive = primitive;
+  hit.bsdf = materials_[tri.material].bsdf.get();
+  hit.lightIndex = tri.light;
+  hit.light = tri.light >= 0 ? static_cast<const AreaLight*>(lights_[tri.light].get()) : nullptr;
+  return hit;
+}
+
+std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {
+  const Triangle& tri = triangles_[primitive];
+  return {positions_[tri.v[0]], positions_[tri.v[1]], positions_[tri.v[2]]};
 }
 
 Ray Scene::spawnRay(const SurfaceHit& hit, const Vec3& d) const {

@@ -3,6 +3,7 @@
 #pragma once
 #include <embree3/rtcore.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@ struct SurfaceHit {
   Vec3 ng;       // geometric normal, unit, on the front (counter-clockwise) side
   Frame shading; // shading normal frame (interpolated NORMAL, or ng when the mesh has none)
   Vec2 uv;
+  Vec2 barycentric{0.0f};  // (b1, b2): p = (1 − b1 − b2) v0 + b1 v1 + b2 v2 on the triangle
   uint32_t primitive = 0;
   const BSDF* bsdf = nullptr;
   const AreaLight* light = nullptr;  // non-null on emissive triangles
@@ -67,6 +69,12 @@ class Scene {
   Ray spawnRay(const SurfaceHit& hit, const Vec3& d) const;
   // Shadow ray from hit towards a light sample at `distance` along wi: is it unblocked?
   bool visible(const SurfaceHit& hit, const Vec3& wi, float distance) const;
+  // The surface at barycentric (b1, b2) of triangle `primitive`, as intersect() reports a hit
+  // there (t left at infinity). For methods that mesh the surfaces themselves (radiosity).
+  SurfaceHit surfaceAt(uint32_t primitive, float b1, float b2) const;
+  // A triangle's corners (world space) and material index.
+  std::array<Vec3, 3> trianglePositions(uint32_t primitive) const;
+  uint32_t triangleMaterial(uint32_t primitive) const { return triangles_[primitive].material; }
 
   const Camera& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }
