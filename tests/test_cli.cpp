@@ -95,9 +95,9 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   expectCleanFailure("render " + scene + " -o " + out + " --time 0", out, "--time: must be a number of seconds above 0");
   expectCleanFailure("render " + scene + " -o " + out + " --seed -1", out, "--seed: must be 0 or more, got -1");
   // An unknown integrator lists them all (sorted by name: the registry's order).
-  Result u = run("render " + scene + " -o " + out + " --integrator radiosity");
+  Result u = run("render " + scene + " -o " + out + " --integrator metropolis");
   CHECK(u.code == 1);
-  CHECK_THAT(u.err, Contains("unknown integrator 'radiosity' (bdpt, bpm, direct, light, path, photon, ppm, pppm, sppm, vcm, whitted)"));
+  CHECK_THAT(u.err, Contains("unknown integrator 'metropolis' (bdpt, bpm, direct, light, path, photon, ppm, pppm, radiosity, sppm, vcm, whitted)"));
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));

@@ -144,7 +144,7 @@ TEST_CASE("experiment config: mistakes name the file - line and key") {
       {kHead + "[[run]]\nintegrator = \"sppm\"\nalpha = 1.5\n", p + ":9: run[1].alpha: must be in (0, 1]"},
       {kHead + "[[run]]\nintegrator = \"photon\"\nradius = -0.1\n", p + ":9: run[1].radius: must be in (0"},
       {kHead + "[[run]]\nintegrator = \"photon\"\nkernel = \"gauss\"\n", p + ":9: run[1].kernel: unknown kernel 'gauss'"},
-      {kHead + "[[run]]\nintegrator = \"radiosity\"\n", p + ":8: run[1].integrator: unknown integrator 'radiosity'"},
+      {kHead + "[[run]]\nintegrator = \"metropolis\"\n", p + ":8: run[1].integrator: unknown integrator 'metropolis'"},
       {kHead + "[[run]]\nspp = 4\n", p + ":7: run[1]: needs an integrator"},
       {kHead + "[[run]]\nintegrator = \"path\"\ntime = nan\n", p + ":9: run[1].time: must be in (0"},
       {kHead + "[[run]]\nintegrator = \"path\"\nseeds = [1, 1]\n", p + ":9: run[1].seeds: seed 1 is listed twice"},

@@ -332,3 +332,22 @@ def test_compare_smallvcm_refuses_a_source_it_cannot_patch(tmp_path):
     r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "compare_smallvcm.py"), "--smallvcm-src",
                         str(tmp_path / "svcm"), "--out", str(tmp_path / "out")], capture_output=True, text=True)
     assert r.returncode != 0 and "unrecognised src/smallvcm.cxx" in r.stderr
+
+
+def test_radiosity_convergence_tabulates_every_budget_and_draws_the_figure(tmp_path):
+    # Two small budgets on the Cornell box at 16 px: one table row each (patches growing with
+    # the budget, both displays' errors), the figure written; a missing binary is one line.
+    assert os.access(PHOTONLAB, os.X_OK), "build/photonlab is missing: run scripts/setup.sh"
+    figure = tmp_path / "fig.png"
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "radiosity_convergence.py"), "--width", "16",
+                        "--budgets", "100,400", "--reference-spp", "16", "--gather-spp", "4", "--smooth-spp", "4",
+                        "--out", str(tmp_path / "out"), "--figure", str(figure)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    rows = [line for line in r.stdout.splitlines() if line.startswith("| ") and line[2].isdigit()]
+    assert len(rows) == 2
+    patches = [int(row.split("|")[1]) for row in rows]
+    assert patches[0] < patches[1] <= 400
+    assert oiio.ImageInput.open(str(figure)).spec().width > 0
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "radiosity_convergence.py"), "--binary",
+                        str(tmp_path / "none"), "--out", str(tmp_path / "o2")], capture_output=True, text=True)
+    assert r.returncode != 0 and "no photonlab binary" in r.stderr and len(r.stderr.strip().splitlines()) == 1

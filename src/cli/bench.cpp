@@ -9,6 +9,7 @@
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
 #include "spectral/spectral.h"
+#include "integrators/radiosity.h"
 #include "integrators/registry.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"
@@ -229,6 +230,27 @@ int runBench(const std::string& scenePath, int threads, int spp) {
     RenderInfo info;
     integrator->render(*scene, ro, &info);
     std::printf("| %s | %.3f | %.2f |\n", name, info.passes / info.seconds, info.photons / info.seconds / 1e6);
+  }
+
+  // Radiosity's solve (meshing, form factors, Gauss-Seidel) at two patch budgets, all threads.
+  std::printf("\n| radiosity, %d threads | patches | mesh (s) | form factors (s) | M visibility rays/s | Gauss-Seidel (s) | total (s) | "
+              "matrix (MB) |\n|---|---|---|---|---|---|---|---|\n",
+              all);
+  for (int budget : {2500, 10500}) {
+    RenderOptions ro;
+    ro.width = ro.height = 16;
+    ro.spp = 1;
+    ro.threads = all;
+    ParamSet params = integratorEntry("radiosity").defaults();
+    params.setNumber("patches", budget);
+    params.setNumber("spp", 1);
+    auto integrator = makeIntegrator("radiosity", params, ro);
+    integrator->render(*scene, ro, nullptr);
+    auto* radiosity = dynamic_cast<RadiosityIntegrator*>(integrator.get());
+    const auto& st = radiosity->stats();
+    std::printf("| budget %d | %zu | %.2f | %.2f | %.1f | %.2f | %.2f | %.0f |\n", budget, radiosity->mesh().size(), st.meshSeconds,
+                st.formFactorSeconds, st.rays / st.formFactorSeconds / 1e6, st.solveSeconds,
+                st.meshSeconds + st.formFactorSeconds + st.solveSeconds, st.matrixBytes / 1e6);
   }
   return 0;
 }
