@@ -131,13 +131,27 @@ FormFactorPair formFactors(const Scene& scene, const Patch& i, const Patch& j) {
   // Near: 16 points on each side, the closed form from each, the visibility of 16 segments.
   Vec3 xs[16], ys[16];
   int nI = 16, nJ = 16;
+  Vec3 allI[16], allJ[16];  // every point, buried or not (partly buried pairs only)
   if (whole) {
     subCentroids(i.v, 4, xs);
     subCentroids(j.v, 4, ys);
   } else {
     nI = exposedPoints(i, xs);
     nJ = exposedPoints(j, ys);
+    subCentroids(i.v, 4, allI);
+    subCentroids(j.v, 4, allJ);
   }
+  // Of a partly buried patch, the closed form counts all that is in front of the receiving
+  // point; the exposed share is taken of that part only. The buried part of a floor patch
+  // is under the box, behind the plane of the box's own face: from the face, none of what the
+  // closed form counts is buried, although a quarter of the patch is.
+  auto exposedShare = [](const Vec3& x, const Vec3& n, const Vec3* points, uint16_t exposed) {
+    if (exposed == 0xFFFF) return 1.0f;
+    int front = 0, visible = 0;
+    for (int k = 0; k < 16; ++k)
+      if (glm::dot(n, points[k] - x) > 0) ++front, visible += (exposed >> k) & 1;
+    return front > 0 ? float(visible) / front : 0.0f;
+  };
   double ij = 0, ji = 0;
   for (int k = 0; k < nI; ++k) {
     const Vec3& x = xs[k];
@@ -159,11 +173,15 @@ FormFactorPair formFactors(const Scene& scene, const Patch& i, const Patch& j) {
     if (fx <= 0 && fy <= 0) continue;
     ++f.rays;
     if (!segmentVisible(scene, x, i.normal, ys[yk], j.normal)) continue;
+    if (!whole) {
+      fx *= exposedShare(x, i.normal, allJ, j.exposed);
+      fy *= exposedShare(ys[yk], j.normal, allI, i.exposed);
+    }
     ij += fx;
     ji += fy;
   }
-  f.ij = float(scaleIJ * ij / nI);
-  f.ji = float(scaleJI * ji / nI);
+  f.ij = float(ij / nI);
+  f.ji = float(ji / nI);
   return f;
 }
 
