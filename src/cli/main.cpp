@@ -123,6 +123,14 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   auto meta = runMetadata(s, info, scenePath);
   if (info.interrupted) return writePartial(outputs, image, meta, info.seconds, display);
+  if (s.image.sliced()) {
+    for (auto& o : outputs) writeSlice(o, *info.slice, meta);
+    if (!quiet)
+      std::fprintf(stderr, "%s: %dx%d, %s %d:%d of the render, %.2f s -> %s\n", s.integrator.c_str(), s.image.width,
+                   s.image.height, progressive ? "passes" : "samples", s.image.rangeBegin, s.image.rangeEnd, info.seconds,
+                   outputs.front().c_str());
+    return 0;
+  }
   for (auto& o : outputs) {
     writeImage(o, image, meta, display);
     fs::path p(o);
@@ -205,6 +213,113 @@ int cmdInfo(const std::string& scenePath) {
     std::printf("  %-12s x%-6d power [%g, %g, %g] W\n", kind.c_str(), e.first, e.second.r, e.second.g, e.second.b);
   Spectrum total = scene->totalPower();
   std::printf("total power: [%g, %g, %g] W\n", total.r, total.g, total.b);
+  return 0;
+}
+
+// The integrators a render can be sliced with, in `unit` (Integrator::sliceUnit), for messages.
+std::string slicedBy(const std::string& unit) {
+  std::string names;
+  for (const IntegratorEntry* e : integrators()) {
+    const char* u = e->make(e->defaults(), RenderOptions{})->sliceUnit();
+    if (u && unit == u) names += (names.empty() ? "" : ", ") + e->name;
+  }
+  return names;
+}
+
+// "A:B" with 0 ≤ A < B.
+void parseRange(const std::string& flag, const std::string& text, int* begin, int* end) {
+  size_t colon = text.find(':');
+  auto number = [&](const std::string& t) {
+    size_t used = 0;
+    long long v = -1;
+    try {
+      v = std::stoll(t, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != t.size() || t.empty() || v < 0 || v > (1 << 24)) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
+    return int(v);
+  };
+  if (colon == std::string::npos) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
+  *begin = number(text.substr(0, colon));
+  *end = number(text.substr(colon + 1));
+  if (*begin >= *end) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
+}
+
+// `photonlab merge`: slices of one render (same scene, settings, seed, build) tiling [A, B)
+// without gaps or overlaps, added up exactly in range order (core/exact_sum.h): the result is
+// bit for bit the single-process render of samples (passes) A to B.
+int cmdMerge(const std::vector<std::string>& paths, const std::string& output, bool partialOutput) {
+  struct Part {
+    std::string path;
+    RenderSlice slice;
+    std::map<std::string, std::string> meta;
+  };
+  checkOutputPath(output);
+  std::vector<Part> parts;
+  for (const std::string& p : paths) parts.push_back({p, readSlice(p), readImageMetadata(p)});
+  // What differs between slices of one render: their own work, time and range; everything
+  // else (scene, integrator, every parameter, seed, size, spectral, build) must agree.
+  std::set<std::string> own = {"seconds", "range_begin", "range_end", "spp", "passes", "mean_spp", "mean_passes",
+                               "photons", "mean_radius", "time_up", "merged_slices"};
+  const Part& first = parts.front();
+  // "radius" is the radius reached (per slice) unless the integrator declares it as a parameter.
+  const IntegratorEntry* entry = first.meta.count("integrator") ? findIntegrator(first.meta.at("integrator")) : nullptr;
+  if (entry && std::none_of(entry->params.begin(), entry->params.end(), [](const ParamSpec& p) { return p.metaKey() == "radius"; }))
+    own.insert("radius");
+  for (const Part& p : parts) {
+    if (p.meta.count("partial")) throw Error(p.path + ": an interrupted slice (metadata partial = 1); render it again");
+    // The telling differences first.
+    std::vector<std::string> keys = {"integrator", "scene", "seed", "width", "height", "git_revision"};
+    for (const auto* m : {&first.meta, &p.meta})
+      for (auto& [k, v] : *m)
+        if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    for (const std::string& k : keys) {
+      if (own.count(k)) continue;
+      auto a = first.meta.find(k), b = p.meta.find(k);
+      std::string va = a == first.meta.end() ? "(none)" : a->second, vb = b == p.meta.end() ? "(none)" : b->second;
+      if (va != vb)
+        throw Error(p.path + ": not a slice of the same render as " + first.path + " (" + k + " " + vb + " against " + va + ")");
+    }
+  }
+  std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.slice.begin < b.slice.begin; });
+  const std::string unit = first.meta.count("passes") ? "passes" : "samples";
+  auto span = [](const Part& p) { return std::to_string(p.slice.begin) + ":" + std::to_string(p.slice.end); };
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const Part &a = parts[i - 1], &b = parts[i];
+    if (b.slice.begin < a.slice.end)
+      throw Error(b.path + ": overlaps " + a.path + " (" + unit + " " + span(b) + " and " + span(a) + ")");
+    if (b.slice.begin > a.slice.end)
+      throw Error(b.path + ": " + unit + " " + std::to_string(a.slice.end) + ":" + std::to_string(b.slice.begin) +
+                  " are missing between " + a.path + " and " + b.path);
+  }
+  RenderSlice merged = parts.front().slice;
+  double seconds = 0;
+  uint64_t photons = 0;
+  int slices = 0;  // the original slices, through merges of merges
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const RenderSlice& s = parts[i].slice;
+    slices += parts[i].meta.count("merged_slices") ? std::stoi(parts[i].meta.at("merged_slices")) : 1;
+    seconds += std::stod(parts[i].meta.count("seconds") ? parts[i].meta.at("seconds") : "0");
+    if (parts[i].meta.count("photons")) photons += std::stoull(parts[i].meta.at("photons"));
+    if (i == 0) continue;
+    for (size_t k = 0; k < merged.sums.size(); ++k) merged.sums[k].add(s.sums[k]);
+    for (size_t k = 0; k < merged.counts.size(); ++k) merged.counts[k] += s.counts[k];
+    merged.end = s.end;
+  }
+  std::map<std::string, std::string> meta = parts.back().meta;  // the last slice's radius is the render's
+  meta.erase("range_begin"), meta.erase("range_end");
+  meta["seconds"] = formatNumber(seconds);
+  meta[unit == "passes" ? "passes" : "spp"] = std::to_string(merged.end - merged.begin);
+  if (photons) meta["photons"] = std::to_string(photons);
+  meta["merged_slices"] = std::to_string(slices);
+  if (partialOutput) writeSlice(output, merged, meta);
+  else {
+    if (merged.begin != 0) meta["range_begin"] = std::to_string(merged.begin), meta["range_end"] = std::to_string(merged.end);
+    writeImage(output, merged.mean(), meta);
+  }
+  std::fprintf(stderr, "merge: %zu slices, %s %d:%d -> %s\n", parts.size(), unit.c_str(), merged.begin, merged.end,
+               output.c_str());
   return 0;
 }
 
@@ -301,6 +416,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   render->add_option("--tonemap", toneCurve, "PNG only: clamp | aces (a filmic curve that rolls highlights off)")
       ->capture_default_str();
+  std::string sampleRange, passRange;
+  render->add_option("--sample-range", sampleRange,
+                     "A:B: render only samples A..B-1 of the full render, keyed as it keys them, into an EXR of their "
+                     "exact sums (photonlab merge adds slices up) [" + slicedBy("spp") + "]");
+  render->add_option("--pass-range", passRange, "A:B: the same in passes [" + slicedBy("passes") + "]");
   bool checkpoints = false;
   render->add_flag("--checkpoints", checkpoints,
                    "Integrators counted in passes: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
@@ -318,6 +438,16 @@ int main(int argc, char** argv) {
   std::string imagePath, referencePath;
   compare->add_option("image", imagePath)->required();
   compare->add_option("reference", referencePath)->required();
+
+  auto* merge = app.add_subcommand("merge", "Add render slices (--sample-range, --pass-range) up into one image, bit for bit "
+                                          "the single-process render of their union");
+  std::vector<std::string> mergeParts;
+  std::string mergeOutput;
+  bool mergePartial = false;
+  merge->add_option("parts", mergeParts, "Slice EXRs, in any order")->required();
+  merge->add_option("-o,--output", mergeOutput, "The merged image (.exr or .png), or with --partial a slice again (.exr)")
+      ->required();
+  merge->add_flag("--partial", mergePartial, "Write a slice (exact sums) instead of an image, to merge further");
 
   auto* run = app.add_subcommand("run", "Run an experiment (experiments/*.toml): reference, runs, checkpoints, metrics.csv");
   std::string experimentPath;
@@ -406,6 +536,23 @@ int main(int argc, char** argv) {
           if (e->budgetParam() && e->budgetParam()->name == "passes") counted += (counted.empty() ? "" : ", ") + e->name;
         throw Error("--checkpoints: only with " + counted);
       }
+      if (!sampleRange.empty() || !passRange.empty()) {
+        const bool samples = !sampleRange.empty();
+        const std::string flag = samples ? "--sample-range" : "--pass-range", unit = samples ? "spp" : "passes";
+        if (!sampleRange.empty() && !passRange.empty()) throw Error("--sample-range and --pass-range: one or the other");
+        const char* sliceUnit = entry.make(settings.params, options)->sliceUnit();
+        if (!sliceUnit || unit != sliceUnit) throw Error(flag + ": only with " + slicedBy(unit));
+        parseRange(flag, samples ? sampleRange : passRange, &options.rangeBegin, &options.rangeEnd);
+        if (timeOpt->count()) throw Error(flag + ": a slice is a number of " + unit + ", not a time (no --time)");
+        if (checkpoints) throw Error(flag + ": no --checkpoints (a slice's are not the full render's)");
+        if (options.nanAov) throw Error(flag + ": not with --aov nan");
+        const ParamSpec* budgetSpec = entry.budgetParam();
+        if (budgetSpec && budgetGiven && options.rangeEnd > settings.params.integer(budgetSpec->name))
+          throw Error(flag + ": " + std::to_string(options.rangeBegin) + ":" + std::to_string(options.rangeEnd) +
+                      " reaches past " + budgetSpec->flag() + " " + std::to_string(settings.params.integer(budgetSpec->name)));
+        for (const std::string& o : outputs)
+          if (fs::path(o).extension() != ".exr") throw Error(flag + ": " + o + ": a slice is written as .exr (its exact sums)");
+      }
       // --time alone: as many samples or passes as fit.
       if (options.timeLimit > 0 && !budgetGiven && entry.budgetParam()) settings.params.unset(entry.budgetParam()->name);
       options.progress = !quiet;
@@ -421,6 +568,7 @@ int main(int argc, char** argv) {
     }
     if (*info) return cmdInfo(infoScene);
     if (*compare) return cmdCompare(imagePath, referencePath);
+    if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
     if (*bench) return runBench(benchScene, benchThreads, benchSpp);
     if (*integratorsCmd) {
       if (markdown) {

@@ -39,6 +39,11 @@ class Integrator {
   virtual std::vector<std::string> notes() const { return {}; }
   // Images beside the radiance, after render().
   virtual std::vector<NamedImage> extraImages() const { return {}; }
+  // The unit a render can be sliced in (RenderOptions::rangeBegin/End): "spp" for integrators
+  // whose samples are independent estimates averaged with equal weights, "passes" for PPPM's
+  // independent passes; nullptr when slices would not add up (SPPM's per-pixel radii depend on
+  // every earlier pass).
+  virtual const char* sliceUnit() const { return nullptr; }
 };
 
 // Camera-side integrators: the pixel value is the mean of Li over the pixel's samples.
@@ -53,6 +58,7 @@ class PixelIntegrator : public Integrator {
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
+  const char* sliceUnit() const override { return "spp"; }
 };
 
 // What a light path is traced with: its wavelengths, its random stream, and the film it splats

@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace pl {
@@ -81,6 +82,107 @@ bool isDisplayReferred(const std::string& path) {
   auto in = openInput(path);
   std::string format = in->format_name();
   return format != "openexr" && format != "hdr" && format != "pfm";
+}
+
+namespace {
+constexpr int kPartialChannels = 3 + 1 + 3 * ExactSum::kLimbs * 2;
+
+std::vector<std::string> partialChannelNames() {
+  std::vector<std::string> names = {"R", "G", "B", "count"};
+  for (const char* c : {"R", "G", "B"})
+    for (int k = 0; k < ExactSum::kLimbs; ++k)
+      for (const char* half : {"lo", "hi"}) names.push_back(std::string("sum.") + c + "." + std::to_string(k) + "." + half);
+  return names;
+}
+}  // namespace
+
+void writeSlice(const std::string& path, const RenderSlice& part, const std::map<std::string, std::string>& metadata) {
+  if (extensionOf(path) != ".exr") throw Error(path + ": a slice is written as .exr (its exact sums need the channels)");
+  fs::path target(path);
+  fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial-" + std::to_string(getpid()) + ".exr");
+  auto out = OIIO::ImageOutput::create(tmp.string());
+  if (!out) throw Error(path + ": cannot create an image writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec(part.width, part.height, kPartialChannels, OIIO::TypeDesc::UINT);
+  spec.channelnames = partialChannelNames();
+  spec.channelformats.assign(kPartialChannels, OIIO::TypeDesc::UINT);
+  for (int c = 0; c < 3; ++c) spec.channelformats[c] = OIIO::TypeDesc::FLOAT;
+  spec.alpha_channel = -1;
+  for (auto& [key, value] : metadata) spec.attribute("photonlab:" + key, value);
+  spec.attribute("photonlab:range_begin", std::to_string(part.begin));
+  spec.attribute("photonlab:range_end", std::to_string(part.end));
+  spec.attribute("compression", "zip");
+  // Every channel is 4 bytes: one uint32 buffer, the float channels' bits copied in.
+  const size_t pixels = size_t(part.width) * part.height;
+  std::vector<uint32_t> data(pixels * kPartialChannels);
+  const ImageRGB mean = part.mean();
+  for (size_t i = 0; i < pixels; ++i) {
+    uint32_t* d = &data[i * kPartialChannels];
+    std::memcpy(d, &mean.data[i * 3], 3 * sizeof(float));
+    d[3] = part.counts[i];
+    for (int c = 0; c < 3; ++c) {
+      const uint64_t* limbs = part.sums[i * 3 + c].limbs();
+      for (int k = 0; k < ExactSum::kLimbs; ++k) {
+        d[4 + (c * ExactSum::kLimbs + k) * 2] = uint32_t(limbs[k]);
+        d[4 + (c * ExactSum::kLimbs + k) * 2 + 1] = uint32_t(limbs[k] >> 32);
+      }
+    }
+  }
+  bool ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UNKNOWN, data.data());
+  ok = out->close() && ok;
+  std::error_code ec;
+  if (!ok) {
+    std::string err = out->geterror();
+    fs::remove(tmp, ec);
+    throw Error(path + ": cannot write (" + err + ")");
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(path + ": cannot rename the finished image into place (" + ec.message() + ")");
+  }
+}
+
+RenderSlice readSlice(const std::string& path) {
+  auto in = openInput(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  // OpenEXR stores channels sorted by name: find each by its name.
+  const std::vector<std::string> names = partialChannelNames();
+  std::vector<int> at(names.size(), -1);
+  for (size_t i = 0; i < names.size(); ++i)
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channel_name(c) == names[i]) at[i] = c;
+  bool ok = spec.nchannels == kPartialChannels;
+  for (size_t i = 0; i < names.size() && ok; ++i)
+    ok = at[i] >= 0 && spec.channelformat(at[i]).size() == 4 && (i < 3 || spec.channelformat(at[i]) == OIIO::TypeDesc::UINT);
+  if (!ok) throw Error(path + ": not a render slice (photonlab render --sample-range or --pass-range writes them)");
+  RenderSlice part;
+  part.width = spec.width, part.height = spec.height;
+  try {
+    part.begin = std::stoi(spec.get_string_attribute("photonlab:range_begin"));
+    part.end = std::stoi(spec.get_string_attribute("photonlab:range_end"));
+  } catch (const std::exception&) {
+    throw Error(path + ": a render slice without its range (range_begin, range_end)");
+  }
+  const size_t pixels = size_t(part.width) * part.height;
+  std::vector<uint32_t> data(pixels * kPartialChannels);
+  // Native formats (floats and uints, 4 bytes each), as written.
+  if (!in->read_image(0, 0, 0, kPartialChannels, OIIO::TypeDesc::UNKNOWN, data.data()))
+    throw Error(path + ": cannot read pixels (" + in->geterror() + ")");
+  part.sums.resize(pixels * 3);
+  part.counts.resize(pixels);
+  for (size_t i = 0; i < pixels; ++i) {
+    const uint32_t* d = &data[i * kPartialChannels];
+    part.counts[i] = d[at[3]];
+    for (int c = 0; c < 3; ++c) {
+      uint64_t limbs[ExactSum::kLimbs];
+      for (int k = 0; k < ExactSum::kLimbs; ++k) {
+        const size_t lo = 4 + (c * ExactSum::kLimbs + k) * 2;
+        limbs[k] = uint64_t(d[at[lo]]) | uint64_t(d[at[lo + 1]]) << 32;
+      }
+      part.sums[i * 3 + c].setLimbs(limbs);
+    }
+  }
+  return part;
 }
 
 std::map<std::string, std::string> readImageMetadata(const std::string& path) {

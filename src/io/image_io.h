@@ -6,6 +6,7 @@
 
 #include "io/tonemap.h"
 #include "render/image.h"
+#include "render/render_options.h"
 
 namespace pl {
 
@@ -17,6 +18,14 @@ void writeImage(const std::string& path, const ImageRGB& image, const std::map<s
 ImageRGB readImage(const std::string& path);
 // True for images holding display values (PNG, JPEG, ...), false for linear ones (EXR, HDR, PFM).
 bool isDisplayReferred(const std::string& path);
+// A slice of a render (`photonlab render --sample-range`, `--pass-range`) as an EXR: R, G, B
+// hold the slice's own mean (viewable as any image), `count` each pixel's samples, and
+// sum.<R|G|B>.<limb>.<lo|hi> the exact sums' 320-bit integers as 32-bit halves of their five
+// 64-bit limbs, so that `photonlab merge` adds them without a rounding. The metadata says
+// which slice it is (range_begin, range_end) besides everything a render records.
+void writeSlice(const std::string& path, const RenderSlice& part, const std::map<std::string, std::string>& metadata);
+// Throws Error naming the file when it is not a slice photonlab wrote.
+RenderSlice readSlice(const std::string& path);
 // Metadata attributes of an image file (for tests and `photonlab info IMAGE.exr`).
 std::map<std::string, std::string> readImageMetadata(const std::string& path);
 

@@ -15,8 +15,11 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   const Budget& budget = setup.budget;
   std::vector<uint32_t>& passes = setup.passes;
   double r2 = double(r0) * r0;  // radius of the pass about to run
-  double lastRadius = r0;
-  std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
+  // A slice (--pass-range A:B) starts at pass A + 1 with the radius the whole render has there.
+  for (int p = 1; p <= ro.rangeBegin; ++p) r2 = pppmNextRadius2(r2, p, o.alpha);
+  double lastRadius = ro.rangeBegin > 0 ? std::sqrt(r2) : r0;
+  // Exact sums (core/exact_sum.h), so that slices merge into the whole render's bits.
+  std::vector<ExactSum> sum(pixels * 3);
 
   auto pass = [&](int p) {
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
@@ -41,7 +44,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
           L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);  // uplifted on a spectral path
         }
         if (ro.spectral) L = spectralToRGB(L, lambda.lambda);
-        if (isFinite(L)) sum[i] += glm::dvec3(L);  // a non-finite sample is dropped, never accumulated
+        if (isFinite(L)) sum[i * 3].add(L.r), sum[i * 3 + 1].add(L.g), sum[i * 3 + 2].add(L.b);  // non-finite: dropped
         ++passes[i];
       }
     });
@@ -53,10 +56,20 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   auto image = [&] {
     ImageRGB img(W, H);
     for (size_t i = 0; i < pixels; ++i)
-      if (passes[i] > 0) img.set(int(i % W), int(i / W), Spectrum(sum[i] / double(passes[i])));
+      if (passes[i] > 0)
+        for (int c = 0; c < 3; ++c) img.data[i * 3 + c] = pixelMean(sum[i * 3 + c], passes[i]);
     return img;
   };
-  return runPasses(setup, o, info, pass, image, [&] { return lastRadius; });
+  ImageRGB result = runPasses(setup, o, info, pass, image, [&] { return lastRadius; });
+  if (info && ro.sliced()) {
+    auto partial = std::make_shared<RenderSlice>();
+    partial->width = W, partial->height = H;
+    partial->begin = ro.rangeBegin, partial->end = ro.rangeEnd;
+    partial->sums = std::move(sum);
+    partial->counts = passes;
+    info->slice = partial;
+  }
+  return result;
 }
 
 static const IntegratorRegistration registration({

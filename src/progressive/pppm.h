@@ -13,6 +13,7 @@ class PPPMIntegrator final : public PassIntegrator {
   using PassIntegrator::PassIntegrator;
   ImageRGB render(const Scene& scene, const RenderOptions& image, RenderInfo* info) override;
   const char* name() const override { return "pppm"; }
+  const char* sliceUnit() const override { return "passes"; }
 };
 
 }  // namespace pl

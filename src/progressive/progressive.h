@@ -152,13 +152,17 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     fill(last);
     return pi;
   };
-  Progress progress(setup.image, unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
+  // A slice (PPPM's --pass-range A:B) runs passes A + 1 ... B and counts from its start.
+  const RenderOptions& ro = setup.image;
+  const int first = ro.sliced() ? ro.rangeBegin + 1 : 1, final = ro.sliced() ? ro.rangeEnd : o.passes;
+  Progress progress(setup.image,
+                    ro.sliced() ? final - first + 1 : unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
   Checkpoints checkpoints(setup.image, budget);
-  for (int p = 1; p <= o.passes && !budget.expired(); ++p) {
+  for (int p = first; p <= final && !budget.expired(); ++p) {
     if (pass(p)) ++tracedPasses;
-    progress.update(p, budget.elapsed());
-    bool last = p == o.passes || budget.expired();
-    checkpoints.after(p, last, infoAt, image);
+    progress.update(p - first + 1, budget.elapsed());
+    bool last = p == final || budget.expired();
+    checkpoints.after(p - first + 1, last, infoAt, image);
     if (last) break;
   }
   fill(true);

@@ -3,7 +3,11 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
+
+#include "core/exact_sum.h"
 
 #include "render/image.h"
 #include "scene/camera.h"
@@ -36,7 +40,26 @@ struct RenderOptions {
   // after the last one; the time it takes is not counted in RenderInfo::seconds nor against
   // timeLimit.
   std::function<void(const ImageRGB&, const RenderInfo&)> checkpoint;
+  // --sample-range / --pass-range A:B: only samples (or passes) A, A+1, ..., B−1 of the full
+  // render, each keyed exactly as the full render keys it; their exact sums come back in
+  // RenderInfo::partial for `photonlab merge`. 0:0 is the whole render.
+  int rangeBegin = 0, rangeEnd = 0;
+  bool sliced() const { return rangeEnd > 0; }
 };
+
+// A slice's exact per-pixel sums (core/exact_sum.h) and sample counts: what `photonlab merge`
+// adds up. Summing slices in any grouping gives the bits the whole render has.
+struct RenderSlice {
+  int width = 0, height = 0;
+  int begin = 0, end = 0;             // the samples or passes it holds
+  std::vector<ExactSum> sums;         // width·height·3
+  std::vector<uint32_t> counts;       // width·height
+  ImageRGB mean() const;              // render/renderer.cpp
+};
+
+// A pixel's value from its exact sum and its sample count: the one division every render (and
+// every merge) makes, so that they agree bit for bit.
+inline float pixelMean(const ExactSum& sum, uint32_t count) { return float(sum.value() / count); }
 
 struct RenderInfo {
   int spp = 0;             // samples every pixel has (per-pixel and light-side integrators)
@@ -50,6 +73,7 @@ struct RenderInfo {
   bool interrupted = false;       // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
   bool timeUp = false;            // stopped because the time budget was spent
   bool last = false;              // the render's final image
+  std::shared_ptr<const RenderSlice> slice;  // a sliced render's sums (RenderOptions::sliced)
 };
 
 // Samples (or passes) per pixel after a render the budget may have cut mid-pass: what every

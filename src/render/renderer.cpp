@@ -28,10 +28,12 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   const int W = o.width, H = o.height;
   const size_t pixels = size_t(W) * H;
   const int threads = resolveThreads(o.threads);
-  checkMemory(mulSaturate(pixels, 3 * sizeof(double) + 3 * sizeof(float) + 2 * sizeof(uint32_t)),
+  checkMemory(mulSaturate(pixels, 3 * sizeof(ExactSum) + 3 * sizeof(float) + 2 * sizeof(uint32_t)),
               std::to_string(W) + "x" + std::to_string(H) + " image");
-  // Double-precision sums: float accumulation drifts over thousands of samples.
-  std::vector<double> sum(pixels * 3, 0.0);
+  // Exact sums (core/exact_sum.h): float accumulation drifts over thousands of samples, and
+  // double accumulation depends on the grouping, which would keep slices of a render
+  // (--sample-range) from merging into the bits of the whole.
+  std::vector<ExactSum> sum(pixels * 3);
   // Samples per pixel. All equal, except after a pass the budget cut short: the pixels it
   // reached have one more sample, and each pixel's estimate is its own mean.
   std::vector<uint32_t> count(pixels, 0);
@@ -45,7 +47,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         image.set(int(i % W), int(i / W), Spectrum(float(nanCount[i]) / count[i]));
         continue;
       }
-      for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = float(sum[i * 3 + c] / count[i]);
+      for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = pixelMean(sum[i * 3 + c], count[i]);
     }
     return image;
   };
@@ -64,10 +66,13 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   };
   integrator.preprocess(scene, o.seed, threads, budget);
 
-  const int target = unitTarget(o.spp, o.timeLimit);
-  Progress progress(o, target);
+  // A slice renders samples [rangeBegin, rangeEnd) of the whole render; its progress and
+  // checkpoints count from the slice's start.
+  const int first = o.sliced() ? o.rangeBegin : 0;
+  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
+  Progress progress(o, target - first);
   Checkpoints checkpoints(o, budget);
-  for (int s = 0; s < target && !budget.expired(); ++s) {
+  for (int s = first; s < target && !budget.expired(); ++s) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. The budget is polled per pixel.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
@@ -83,19 +88,38 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
           if (o.nanAov) ++nanCount[pixel];
           continue;
         }
-        double* p = &sum[pixel * 3];
-        p[0] += L.r, p[1] += L.g, p[2] += L.b;
+        ExactSum* p = &sum[pixel * 3];
+        p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
       }
     });
-    const int taken = s + 1;
+    const int taken = s + 1 - first;
     progress.update(taken, budget.elapsed());
-    bool last = taken == target || budget.expired();
+    bool last = s + 1 == target || budget.expired();
     checkpoints.after(taken, last, infoAt, estimate);
     if (last) break;
   }
   checkpoints.finish(infoAt, estimate);
-  if (stats) *stats = infoAt(true);
+  if (stats) {
+    *stats = infoAt(true);
+    if (o.sliced()) {
+      auto partial = std::make_shared<RenderSlice>();
+      partial->width = W, partial->height = H;
+      partial->begin = o.rangeBegin, partial->end = o.rangeEnd;
+      partial->sums = std::move(sum);
+      partial->counts = std::move(count);
+      stats->slice = partial;
+      return partial->mean();
+    }
+  }
   return estimate();
+}
+
+ImageRGB RenderSlice::mean() const {
+  ImageRGB image(width, height);
+  for (size_t i = 0; i < counts.size(); ++i)
+    if (counts[i] > 0)
+      for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = pixelMean(sums[i * 3 + c], counts[i]);
+  return image;
 }
 
 }  // namespace pl

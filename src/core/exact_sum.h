@@ -1,0 +1,97 @@
+// An exact sum of floats: every float is an integer multiple of 2^-149 (the smallest
+// subnormal), so a 320-bit two's-complement integer in units of 2^-149 holds any sum of up to
+// 2^32 floats without rounding (|x| < 2^128: bit 149 + 128 + 32 = 309 < 319, the sign bit).
+// Addition of integers is associative, so a render split into slices, each summed on its own,
+// merges into exactly the sum the whole render makes, bit for bit, whatever the split
+// (`photonlab render --sample-range`, `photonlab merge`). A double accumulator is not: adding
+// a sample of 1e-3 to a sum of 1e7 rounds, and where it rounds depends on the grouping.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace pl {
+
+class ExactSum {
+ public:
+  static constexpr int kLimbs = 5;
+
+  void add(float x) {
+    uint32_t bits;
+    std::memcpy(&bits, &x, 4);
+    const uint32_t exponent = (bits >> 23) & 0xFF, fraction = bits & 0x7FFFFF;
+    if (exponent == 0xFF) return;  // callers pass finite values; ±inf/NaN are never added
+    if (exponent == 0 && fraction == 0) return;
+    // x = m · 2^(shift − 149): normal numbers carry the hidden bit, subnormals do not.
+    const uint64_t m = exponent ? (fraction | 0x800000u) : fraction;
+    const int shift = exponent ? int(exponent) - 1 : 0;
+    const int limb = shift / 64, offset = shift % 64;
+    uint64_t part[kLimbs] = {};
+    part[limb] = m << offset;
+    if (offset > 40 && limb + 1 < kLimbs) part[limb + 1] = m >> (64 - offset);
+    if (bits >> 31) subtract(part);
+    else addLimbs(part);
+  }
+
+  void add(const ExactSum& o) { addLimbs(o.limb_); }
+
+  // The sum rounded to the nearest double (ties to even).
+  double value() const {
+    uint64_t v[kLimbs];
+    std::memcpy(v, limb_, sizeof v);
+    const bool negative = v[kLimbs - 1] >> 63;
+    if (negative) negate(v);
+    int top = kLimbs - 1;
+    while (top >= 0 && v[top] == 0) --top;
+    if (top < 0) return 0.0;
+    // The 64 bits from the highest set one down, the rest folded into a sticky bit: converting
+    // that to double rounds exactly as the whole number would (64 > 53 + 2 bits).
+    const int lead = 63 - __builtin_clzll(v[top]);
+    const int high = top * 64 + lead;  // index of the highest set bit
+    uint64_t window = 0;
+    bool sticky = false;
+    const int low = high - 63;  // index of the window's lowest bit
+    for (int i = 0; i < 64; ++i) window |= uint64_t(bit(v, low + i)) << i;
+    for (int i = 0; i < low; ++i)
+      if (bit(v, i)) {
+        sticky = true;
+        break;
+      }
+    if (sticky) window |= 1;  // below the 11 bits double drops: only breaks ties, as it should
+    const double r = std::ldexp(double(window), low - 149);
+    return negative ? -r : r;
+  }
+
+  const uint64_t* limbs() const { return limb_; }
+  void setLimbs(const uint64_t* v) { std::memcpy(limb_, v, sizeof limb_); }
+  bool operator==(const ExactSum& o) const { return std::memcmp(limb_, o.limb_, sizeof limb_) == 0; }
+
+ private:
+  static bool bit(const uint64_t* v, int i) { return i >= 0 && ((v[i / 64] >> (i % 64)) & 1); }
+  static void negate(uint64_t* v) {
+    uint64_t carry = 1;
+    for (int i = 0; i < kLimbs; ++i) {
+      v[i] = ~v[i] + carry;
+      carry = carry && v[i] == 0;
+    }
+  }
+  void addLimbs(const uint64_t* p) {
+    unsigned __int128 carry = 0;
+    for (int i = 0; i < kLimbs; ++i) {
+      unsigned __int128 s = (unsigned __int128)limb_[i] + p[i] + carry;
+      limb_[i] = uint64_t(s);
+      carry = s >> 64;
+    }
+  }
+  void subtract(const uint64_t* p) {
+    uint64_t borrow = 0;
+    for (int i = 0; i < kLimbs; ++i) {
+      unsigned __int128 d = (unsigned __int128)limb_[i] - p[i] - borrow;
+      limb_[i] = uint64_t(d);
+      borrow = uint64_t(d >> 64) & 1;
+    }
+  }
+  uint64_t limb_[kLimbs] = {};
+};
+
+}  // namespace pl

@@ -1,0 +1,155 @@
+// Renders split into slices (`photonlab render --sample-range`, `--pass-range`) and merged
+// (`photonlab merge`): the exact accumulator they rest on, then the command line: any split of
+// a render merges into its bits, and slices that do not belong together are refused.
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "core/exact_sum.h"
+#include "gltf_fixture.h"
+
+using namespace pl;
+using namespace pl::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+Result run(const std::string& args) {
+  std::string dir = GltfFixture::dir();
+  std::string cmd = std::string(PHOTONLAB_BINARY) + " " + args + " >/dev/null 2>" + dir + "/slices-stderr.txt";
+  int status = std::system(cmd.c_str());
+  std::ifstream f(dir + "/slices-stderr.txt");
+  std::stringstream s;
+  s << f.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
+}
+
+// `photonlab compare` prints rmse 0 only when every pixel is the same float.
+bool identical(const std::string& a, const std::string& b) {
+  std::string dir = GltfFixture::dir();
+  std::string cmd = std::string(PHOTONLAB_BINARY) + " compare " + a + " " + b + " >" + dir + "/slices-compare.txt 2>&1";
+  if (std::system(cmd.c_str()) != 0) return false;
+  std::ifstream f(dir + "/slices-compare.txt");
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str().find("\"rmse\": 0,") != std::string::npos;
+}
+
+const std::string kScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
+
+}  // namespace
+
+TEST_CASE("ExactSum: any grouping of a sum gives the same bits, rounded once to the nearest double") {
+  // Floats over 40 binary orders of magnitude, both signs: the exact sum spans more than a
+  // double's 53 bits, so double accumulation depends on the order (checked below, so the test
+  // means something), while the exact sums of any split agree to the bit. The reference value
+  // is the sum in __float128 (113 bits: exact for this span and count), rounded to double.
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<float> mantissa(1.0f, 2.0f);
+  std::uniform_int_distribution<int> exponent(-20, 20);
+  std::vector<float> values(20000);
+  for (float& v : values) v = std::ldexp(mantissa(gen), exponent(gen)) * (gen() % 5 == 0 ? -1.0f : 1.0f);
+  __float128 reference = 0;
+  for (float v : values) reference += v;
+  ExactSum whole;
+  double forward = 0, backward = 0;
+  for (float v : values) whole.add(v), forward += v;
+  for (auto it = values.rbegin(); it != values.rend(); ++it) backward += *it;
+  CHECK(forward != backward);  // double accumulation depends on the order
+  CHECK(whole.value() == double(reference));
+  for (size_t split : {size_t(1), size_t(777), size_t(10000), size_t(19999)}) {
+    ExactSum a, b, c;
+    for (size_t i = 0; i < split; ++i) a.add(values[i]);
+    for (size_t i = split; i < values.size(); ++i) b.add(values[i]);
+    c.add(b), c.add(a);  // the other order of the two slices
+    a.add(b);
+    CHECK(a == whole);
+    CHECK(c == whole);
+  }
+  // Edge values: subnormals, the largest float, cancellation to zero, a tie to even.
+  ExactSum e;
+  e.add(std::numeric_limits<float>::denorm_min());
+  CHECK(e.value() == double(std::numeric_limits<float>::denorm_min()));
+  e.add(-std::numeric_limits<float>::denorm_min());
+  CHECK(e.value() == 0.0);
+  ExactSum big;
+  for (int i = 0; i < 4; ++i) big.add(std::numeric_limits<float>::max());
+  CHECK(big.value() == 4.0 * double(std::numeric_limits<float>::max()));
+  ExactSum tie;  // 2^53 + 1 is halfway between two doubles: rounds to the even one, 2^53
+  tie.add(std::ldexp(1.0f, 53));
+  tie.add(1.0f);
+  CHECK(tie.value() == std::ldexp(1.0, 53));
+  tie.add(std::ldexp(1.0f, -30));  // just above the halfway point: rounds up
+  CHECK(tie.value() == std::ldexp(1.0, 53) + 2.0);
+}
+
+TEST_CASE("slices: any split of a render merges into its bits (path by samples, pppm by passes)") {
+  const std::string dir = GltfFixture::dir();
+  SECTION("path tracer, 12 samples as 0:5, 5:6, 6:12, merged in another order") {
+    const std::string common = "render " + kScene + " --integrator path --spp 12 --width 24 -q";
+    REQUIRE(run(common + " -o " + dir + "/whole.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 0:5 -o " + dir + "/s0.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 5:6 -o " + dir + "/s1.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 6:12 -o " + dir + "/s2.exr").code == 0);
+    REQUIRE(run("merge " + dir + "/s2.exr " + dir + "/s0.exr " + dir + "/s1.exr -o " + dir + "/merged.exr").code == 0);
+    CHECK(identical(dir + "/merged.exr", dir + "/whole.exr"));
+    // Merging merged slices (--partial) is the same.
+    REQUIRE(run("merge " + dir + "/s0.exr " + dir + "/s1.exr --partial -o " + dir + "/s01.exr").code == 0);
+    REQUIRE(run("merge " + dir + "/s01.exr " + dir + "/s2.exr -o " + dir + "/merged2.exr").code == 0);
+    CHECK(identical(dir + "/merged2.exr", dir + "/whole.exr"));
+    // A slice alone is not the whole.
+    REQUIRE(run("merge " + dir + "/s0.exr -o " + dir + "/first.exr").code == 0);
+    CHECK_FALSE(identical(dir + "/first.exr", dir + "/whole.exr"));
+  }
+  SECTION("pppm, 6 passes as 0:2, 2:3, 3:6 (each slice starts at the radius the whole render has there)") {
+    const std::string common = "render " + kScene + " --integrator pppm --passes 6 --photons-per-pass 5000 --width 24 -q";
+    REQUIRE(run(common + " -o " + dir + "/pwhole.exr").code == 0);
+    REQUIRE(run(common + " --pass-range 0:2 -o " + dir + "/p0.exr").code == 0);
+    REQUIRE(run(common + " --pass-range 2:3 -o " + dir + "/p1.exr").code == 0);
+    REQUIRE(run(common + " --pass-range 3:6 -o " + dir + "/p2.exr").code == 0);
+    REQUIRE(run("merge " + dir + "/p1.exr " + dir + "/p2.exr " + dir + "/p0.exr -o " + dir + "/pmerged.exr").code == 0);
+    CHECK(identical(dir + "/pmerged.exr", dir + "/pwhole.exr"));
+  }
+}
+
+TEST_CASE("slices: what does not belong together is one line, exit 1, and no output") {
+  const std::string dir = GltfFixture::dir();
+  const std::string common = "render " + kScene + " --integrator path --spp 8 --width 16 -q";
+  REQUIRE(run(common + " --sample-range 0:4 -o " + dir + "/a.exr").code == 0);
+  REQUIRE(run(common + " --sample-range 2:6 -o " + dir + "/b.exr").code == 0);
+  REQUIRE(run(common + " --sample-range 6:8 -o " + dir + "/c.exr").code == 0);
+  REQUIRE(run(common + " --sample-range 4:6 --seed 2 -o " + dir + "/d.exr").code == 0);
+  REQUIRE(run(common + " -o " + dir + "/whole.exr").code == 0);
+  auto refused = [&](const std::string& args, const std::string& mentions) {
+    fs::remove(dir + "/out.exr");
+    Result r = run(args);
+    INFO(args << "\n" << r.err);
+    CHECK(r.code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Contains(mentions));
+    CHECK_FALSE(fs::exists(dir + "/out.exr"));
+  };
+  refused("merge " + dir + "/a.exr " + dir + "/b.exr -o " + dir + "/out.exr", "overlaps");
+  refused("merge " + dir + "/a.exr " + dir + "/c.exr -o " + dir + "/out.exr", "samples 4:6 are missing");
+  refused("merge " + dir + "/a.exr " + dir + "/d.exr -o " + dir + "/out.exr", "(seed 2 against 1)");
+  refused("merge " + dir + "/a.exr " + dir + "/whole.exr -o " + dir + "/out.exr", "whole.exr: not a render slice");
+  refused("merge " + dir + "/a.exr " + dir + "/none.exr -o " + dir + "/out.exr", "none.exr: no such file");
+  refused(common + " --sample-range 4:2 -o " + dir + "/out.exr", "--sample-range: expected A:B with 0 <= A < B");
+  refused(common + " --sample-range 0:9 -o " + dir + "/out.exr", "reaches past --spp 8");
+  refused(common + " --sample-range 0:4 --time 1 -o " + dir + "/out.exr", "not a time");
+  refused(common + " --sample-range 0:4 -o " + dir + "/out.png", "a slice is written as .exr");
+  refused(common + " --pass-range 0:4 -o " + dir + "/out.exr", "--pass-range: only with pppm");
+  refused("render " + kScene + " --integrator sppm --passes 4 --width 16 -q --pass-range 0:2 -o " + dir + "/out.exr",
+          "--pass-range: only with pppm");
+}
