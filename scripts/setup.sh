@@ -12,7 +12,7 @@ apt_packages=(
   libembree-dev libtbb-dev libnanoflann-dev libglm-dev
   libopenimageio-dev libtinygltf-dev nlohmann-json3-dev
   catch2 libtomlplusplus-dev libcli11-dev
-  python3 python3-numpy python3-matplotlib python3-openimageio python3-pytest
+  python3 python3-numpy python3-matplotlib python3-openimageio python3-pytest python3-distributed
   chromium
 )
 

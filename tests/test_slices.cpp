@@ -112,7 +112,7 @@ TEST_CASE("slices: any split of a render merges into its bits (path by samples, 
     REQUIRE(run("merge " + dir + "/s0.exr -o " + dir + "/first.exr").code == 0);
     CHECK_FALSE(identical(dir + "/first.exr", dir + "/whole.exr"));
   }
-  SECTION("pppm, 6 passes as 0:2, 2:3, 3:6 (each slice starts at the radius the whole render has there)") {
+  SECTION("pppm, 6 passes as 0:2, 2:3, 3:6, and as 0:6:3, 1:6:3, 2:6:3 (each pass with the whole render's radius)") {
     const std::string common = "render " + kScene + " --integrator pppm --passes 6 --photons-per-pass 5000 --width 24 -q";
     REQUIRE(run(common + " -o " + dir + "/pwhole.exr").code == 0);
     REQUIRE(run(common + " --pass-range 0:2 -o " + dir + "/p0.exr").code == 0);
@@ -120,6 +120,14 @@ TEST_CASE("slices: any split of a render merges into its bits (path by samples, 
     REQUIRE(run(common + " --pass-range 3:6 -o " + dir + "/p2.exr").code == 0);
     REQUIRE(run("merge " + dir + "/p1.exr " + dir + "/p2.exr " + dir + "/p0.exr -o " + dir + "/pmerged.exr").code == 0);
     CHECK(identical(dir + "/pmerged.exr", dir + "/pwhole.exr"));
+    // Interleaved: every third pass from 0, 1 and 2 (each slice walks the radius schedule).
+    for (int k = 0; k < 3; ++k)
+      REQUIRE(run(common + " --pass-range " + std::to_string(k) + ":6:3 -o " + dir + "/i" + std::to_string(k) + ".exr").code == 0);
+    REQUIRE(run("merge " + dir + "/i2.exr " + dir + "/i0.exr " + dir + "/i1.exr -o " + dir + "/imerged.exr").code == 0);
+    CHECK(identical(dir + "/imerged.exr", dir + "/pwhole.exr"));
+    Result r = run("merge " + dir + "/i0.exr " + dir + "/i1.exr -o " + dir + "/none.exr");
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Contains("passes 2:3 are in none of the slices"));
   }
 }
 
@@ -141,11 +149,11 @@ TEST_CASE("slices: what does not belong together is one line, exit 1, and no out
     CHECK_FALSE(fs::exists(dir + "/out.exr"));
   };
   refused("merge " + dir + "/a.exr " + dir + "/b.exr -o " + dir + "/out.exr", "overlaps");
-  refused("merge " + dir + "/a.exr " + dir + "/c.exr -o " + dir + "/out.exr", "samples 4:6 are missing");
+  refused("merge " + dir + "/a.exr " + dir + "/c.exr -o " + dir + "/out.exr", "samples 4:6 are in none of the slices");
   refused("merge " + dir + "/a.exr " + dir + "/d.exr -o " + dir + "/out.exr", "(seed 2 against 1)");
   refused("merge " + dir + "/a.exr " + dir + "/whole.exr -o " + dir + "/out.exr", "whole.exr: not a render slice");
   refused("merge " + dir + "/a.exr " + dir + "/none.exr -o " + dir + "/out.exr", "none.exr: no such file");
-  refused(common + " --sample-range 4:2 -o " + dir + "/out.exr", "--sample-range: expected A:B with 0 <= A < B");
+  refused(common + " --sample-range 4:2 -o " + dir + "/out.exr", "--sample-range: expected A:B or A:B:K with 0 <= A < B");
   refused(common + " --sample-range 0:9 -o " + dir + "/out.exr", "reaches past --spp 8");
   refused(common + " --sample-range 0:4 --time 1 -o " + dir + "/out.exr", "not a time");
   refused(common + " --sample-range 0:4 -o " + dir + "/out.png", "a slice is written as .exr");

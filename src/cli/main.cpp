@@ -126,8 +126,9 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   if (s.image.sliced()) {
     for (auto& o : outputs) writeSlice(o, *info.slice, meta);
     if (!quiet)
-      std::fprintf(stderr, "%s: %dx%d, %s %d:%d of the render, %.2f s -> %s\n", s.integrator.c_str(), s.image.width,
-                   s.image.height, progressive ? "passes" : "samples", s.image.rangeBegin, s.image.rangeEnd, info.seconds,
+      std::fprintf(stderr, "%s: %dx%d, %s %d:%d%s of the render, %.2f s -> %s\n", s.integrator.c_str(), s.image.width,
+                   s.image.height, progressive ? "passes" : "samples", s.image.rangeBegin, s.image.rangeEnd,
+                   s.image.rangeStep > 1 ? (":" + std::to_string(s.image.rangeStep)).c_str() : "", info.seconds,
                    outputs.front().c_str());
     return 0;
   }
@@ -226,9 +227,14 @@ std::string slicedBy(const std::string& unit) {
   return names;
 }
 
-// "A:B" with 0 ≤ A < B.
-void parseRange(const std::string& flag, const std::string& text, int* begin, int* end) {
-  size_t colon = text.find(':');
+// "A:B" or "A:B:K" with 0 ≤ A < B and K ≥ 1 (K: every K-th sample or pass from A).
+void parseRange(const std::string& flag, const std::string& text, int* begin, int* end, int* step) {
+  const std::string expected = flag + ": expected A:B or A:B:K with 0 <= A < B and K >= 1, got '" + text + "'";
+  std::vector<std::string> fields;
+  size_t start = 0;
+  for (size_t colon; (colon = text.find(':', start)) != std::string::npos; start = colon + 1) fields.push_back(text.substr(start, colon - start));
+  fields.push_back(text.substr(start));
+  if (fields.size() < 2 || fields.size() > 3) throw Error(expected);
   auto number = [&](const std::string& t) {
     size_t used = 0;
     long long v = -1;
@@ -237,13 +243,13 @@ void parseRange(const std::string& flag, const std::string& text, int* begin, in
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != t.size() || t.empty() || v < 0 || v > (1 << 24)) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
+    if (used != t.size() || t.empty() || v < 0 || v > (1 << 24)) throw Error(expected);
     return int(v);
   };
-  if (colon == std::string::npos) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
-  *begin = number(text.substr(0, colon));
-  *end = number(text.substr(colon + 1));
-  if (*begin >= *end) throw Error(flag + ": expected A:B with 0 <= A < B, got '" + text + "'");
+  *begin = number(fields[0]);
+  *end = number(fields[1]);
+  *step = fields.size() == 3 ? number(fields[2]) : 1;
+  if (*begin >= *end || *step < 1) throw Error(expected);
 }
 
 // `photonlab merge`: slices of one render (same scene, settings, seed, build) tiling [A, B)
@@ -260,7 +266,7 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   for (const std::string& p : paths) parts.push_back({p, readSlice(p), readImageMetadata(p)});
   // What differs between slices of one render: their own work, time and range; everything
   // else (scene, integrator, every parameter, seed, size, spectral, build) must agree.
-  std::set<std::string> own = {"seconds", "range_begin", "range_end", "spp", "passes", "mean_spp", "mean_passes",
+  std::set<std::string> own = {"seconds", "range_begin", "range_end", "range_step", "spp", "passes", "mean_spp", "mean_passes",
                                "photons", "mean_radius", "time_up", "merged_slices"};
   const Part& first = parts.front();
   // "radius" is the radius reached (per slice) unless the integrator declares it as a parameter.
@@ -284,16 +290,28 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   }
   std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.slice.begin < b.slice.begin; });
   const std::string unit = first.meta.count("passes") ? "passes" : "samples";
-  auto span = [](const Part& p) { return std::to_string(p.slice.begin) + ":" + std::to_string(p.slice.end); };
-  for (size_t i = 1; i < parts.size(); ++i) {
-    const Part &a = parts[i - 1], &b = parts[i];
-    if (b.slice.begin < a.slice.end)
-      throw Error(b.path + ": overlaps " + a.path + " (" + unit + " " + span(b) + " and " + span(a) + ")");
-    if (b.slice.begin > a.slice.end)
-      throw Error(b.path + ": " + unit + " " + std::to_string(a.slice.end) + ":" + std::to_string(b.slice.begin) +
-                  " are missing between " + a.path + " and " + b.path);
+  // Together the slices must cover [lo, hi) once each: every sample (pass) of it, no other.
+  int lo = INT32_MAX, hi = 0;
+  for (const Part& p : parts) lo = std::min(lo, p.slice.begin), hi = std::max(hi, p.slice.end);
+  std::vector<int> owner(size_t(hi - lo), -1);
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const RenderSlice& s = parts[k].slice;
+    for (int i = s.begin; i < s.end; i += s.step) {
+      int& o = owner[size_t(i - lo)];
+      if (o >= 0)
+        throw Error(parts[k].path + ": overlaps " + parts[size_t(o)].path + " (both hold " + unit + " " + std::to_string(i) + ")");
+      o = int(k);
+    }
   }
+  for (int i = lo; i < hi; ++i)
+    if (owner[size_t(i - lo)] < 0) {
+      int j = i;
+      while (j < hi && owner[size_t(j - lo)] < 0) ++j;
+      throw Error(paths.front() + ": " + unit + " " + std::to_string(i) + ":" + std::to_string(j) +
+                  " are in none of the slices (they cover " + std::to_string(lo) + ":" + std::to_string(hi) + ")");
+    }
   RenderSlice merged = parts.front().slice;
+  merged.begin = lo, merged.end = hi, merged.step = 1;
   double seconds = 0;
   uint64_t photons = 0;
   int slices = 0;  // the original slices, through merges of merges
@@ -305,10 +323,9 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
     if (i == 0) continue;
     for (size_t k = 0; k < merged.sums.size(); ++k) merged.sums[k].add(s.sums[k]);
     for (size_t k = 0; k < merged.counts.size(); ++k) merged.counts[k] += s.counts[k];
-    merged.end = s.end;
   }
   std::map<std::string, std::string> meta = parts.back().meta;  // the last slice's radius is the render's
-  meta.erase("range_begin"), meta.erase("range_end");
+  meta.erase("range_begin"), meta.erase("range_end"), meta.erase("range_step");
   meta["seconds"] = formatNumber(seconds);
   meta[unit == "passes" ? "passes" : "spp"] = std::to_string(merged.end - merged.begin);
   if (photons) meta["photons"] = std::to_string(photons);
@@ -458,6 +475,12 @@ int main(int argc, char** argv) {
   run->add_flag("--force", experiment.force, "Overwrite a finished or different experiment in the results folder");
   run->add_option("--threads", experiment.threads, "Worker threads, overriding the config (0 = all cores)");
   run->add_flag("-q,--quiet", experiment.quiet, "Only warnings and errors");
+  run->add_flag("--list-runs", experiment.listRuns, "Print the (run, seed) pairs, \"RUN SEED\" per line, and stop");
+  run->add_flag("--reference-only", experiment.referenceOnly, "Render (or find in the cache) the reference only");
+  std::string onlyRun;
+  run->add_option("--only", onlyRun,
+                  "RUN:SEED: that run and seed alone, its metrics rows in its own folder (for many processes at once, "
+                  "scripts/cluster.py); a plain run afterwards collects them into metrics.csv");
 
   auto* bench = app.add_subcommand("bench", "Embree ray rate and path-tracer throughput (README, Performance)");
   std::string benchScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
@@ -483,6 +506,20 @@ int main(int argc, char** argv) {
   try {
     if (*run) {
       if (experiment.threads < -1) throw Error("--threads: must be ≥ 0");
+      if (!onlyRun.empty()) {
+        int runIndex = 0;
+        size_t colon = onlyRun.find(':');
+        try {
+          if (colon == std::string::npos) throw std::invalid_argument("no colon");
+          runIndex = std::stoi(onlyRun.substr(0, colon));
+          experiment.onlySeed = std::stoull(onlyRun.substr(colon + 1));
+        } catch (const std::exception&) {
+          runIndex = 0;
+        }
+        if (runIndex < 1) throw Error("--only: expected RUN:SEED (a run number from 1, a seed), got '" + onlyRun + "'");
+        experiment.onlyRun = runIndex;
+        if (experiment.referenceOnly) throw Error("--only and --reference-only: one or the other");
+      }
       return runExperiment(experimentPath, experiment);
     }
     if (*render) {
@@ -542,7 +579,7 @@ int main(int argc, char** argv) {
         if (!sampleRange.empty() && !passRange.empty()) throw Error("--sample-range and --pass-range: one or the other");
         const char* sliceUnit = entry.make(settings.params, options)->sliceUnit();
         if (!sliceUnit || unit != sliceUnit) throw Error(flag + ": only with " + slicedBy(unit));
-        parseRange(flag, samples ? sampleRange : passRange, &options.rangeBegin, &options.rangeEnd);
+        parseRange(flag, samples ? sampleRange : passRange, &options.rangeBegin, &options.rangeEnd, &options.rangeStep);
         if (timeOpt->count()) throw Error(flag + ": a slice is a number of " + unit + ", not a time (no --time)");
         if (checkpoints) throw Error(flag + ": no --checkpoints (a slice's are not the full render's)");
         if (options.nanAov) throw Error(flag + ": not with --aov nan");

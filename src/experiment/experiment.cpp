@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 #include <toml++/toml.h>
 
 #include "core/interrupt.h"
@@ -212,6 +213,17 @@ class Experiment {
   Experiment(ExperimentConfig config, const ExperimentOptions& o) : c_(std::move(config)), o_(o) {}
 
   int run() {
+    if (o_.listRuns) {  // "RUN SEED" per line, 1-based runs, in the order `run` renders them
+      for (size_t i = 0; i < c_.runs.size(); ++i)
+        for (uint64_t seed : c_.runs[i].seeds) std::printf("%zu %llu\n", i + 1, (unsigned long long)seed);
+      return 0;
+    }
+    if (o_.onlyRun) {
+      const auto& seeds = o_.onlyRun <= int(c_.runs.size()) ? c_.runs[o_.onlyRun - 1].seeds : std::vector<uint64_t>{};
+      if (std::find(seeds.begin(), seeds.end(), o_.onlySeed) == seeds.end())
+        throw Error("--only " + std::to_string(o_.onlyRun) + ":" + std::to_string(o_.onlySeed) + ": " + c_.path +
+                    " has no such run and seed (--list-runs lists them)");
+    }
     std::vector<std::string> warnings;
     scene_ = loadGltf(c_.scene, &warnings);
     for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -219,6 +231,8 @@ class Experiment {
     resolveSizes();
     chooseFolder();
     renderReference();
+    if (o_.referenceOnly) return 0;
+    if (o_.onlyRun) return renderOnly();
     return renderRuns();
   }
 
@@ -300,7 +314,9 @@ class Experiment {
     if (fs::is_empty(dir)) return "empty";
     if (!fs::is_regular_file(dir / "experiment.toml")) return "other";
     if (recordedConfigHash(dir / "experiment.toml") != configHash_) return "other";
-    loadRows(dir);
+    // Finished means metrics.csv holds every run; rows still in the runs' own files (from
+    // --only processes) are to be collected, which is resuming.
+    loadRows(dir, false);
     size_t finished = 0, total = 0;
     for (size_t i = 0; i < c_.runs.size(); ++i)
       for (auto seed : c_.runs[i].seeds) {
@@ -310,19 +326,37 @@ class Experiment {
     return finished == total ? "finished" : "resumable";
   }
 
-  void loadRows(const fs::path& dir) {
+  // metrics.csv's rows, and (with `fragments`) those of the runs rendered by --only processes,
+  // each row once, ordered as `run` writes them: by run, seed in the config's order, checkpoint.
+  void loadRows(const fs::path& dir, bool fragments = true) {
     rows_.clear();
-    std::ifstream in(dir / "metrics.csv");
-    std::string line;
-    if (!std::getline(in, line)) return;
-    while (std::getline(in, line)) {
-      auto f = csvSplit(line);
-      if (f.size() != metricsColumns().size()) continue;  // a torn line
-      try {
-        rows_.push_back({std::stoi(f[0]), std::stoull(f[3]), f[14] == "1", line});
-      } catch (const std::exception&) {
+    std::vector<fs::path> files = {dir / "metrics.csv"};
+    if (fragments && fs::is_directory(dir / "runs"))
+      for (auto& run : fs::directory_iterator(dir / "runs"))
+        if (run.is_directory())
+          for (auto& seed : fs::directory_iterator(run.path()))
+            if (fs::is_regular_file(seed.path() / "metrics-rows.csv")) files.push_back(seed.path() / "metrics-rows.csv");
+    std::set<std::tuple<int, uint64_t, int>> seen;
+    for (const fs::path& file : files) {
+      std::ifstream in(file);
+      std::string line;
+      if (!std::getline(in, line)) continue;  // the header
+      while (std::getline(in, line)) {
+        auto f = csvSplit(line);
+        if (f.size() != metricsColumns().size()) continue;  // a torn line
+        try {
+          Row row{std::stoi(f[0]), std::stoull(f[3]), f[14] == "1", line};
+          if (seen.insert({row.run, row.seed, std::stoi(f[4])}).second) rows_.push_back(row);
+        } catch (const std::exception&) {
+        }
       }
     }
+    auto order = [&](const Row& r) {
+      const auto& seeds = r.run >= 1 && r.run <= int(c_.runs.size()) ? c_.runs[r.run - 1].seeds : std::vector<uint64_t>{};
+      size_t seedIndex = std::find(seeds.begin(), seeds.end(), r.seed) - seeds.begin();
+      return std::make_tuple(r.run, seedIndex, std::stoi(csvSplit(r.line)[4]));
+    };
+    std::stable_sort(rows_.begin(), rows_.end(), [&](const Row& a, const Row& b) { return order(a) < order(b); });
   }
 
   fs::path runFolder(int run, uint64_t seed) const {
@@ -342,7 +376,22 @@ class Experiment {
     for (size_t i = 0; i < metricsColumns().size(); ++i) text += (i ? "," : "") + metricsColumns()[i];
     text += "\n";
     for (auto& r : rows_) text += r.line + "\n";
-    writeFileAtomic(out_ / "metrics.csv", text);
+    writeFileAtomic(metricsFile_.empty() ? out_ / "metrics.csv" : metricsFile_, text);
+  }
+
+  // --only RUN:SEED: that run alone, its rows in its own folder. Nothing to do when a previous
+  // attempt finished it (a task run twice by a cluster that lost its worker).
+  int renderOnly() {
+    const int run = o_.onlyRun;
+    const uint64_t seed = o_.onlySeed;
+    loadRows(out_);
+    if (isFinished(out_, run, seed)) {
+      if (!o_.quiet) std::fprintf(stderr, "run: %d:%llu is finished\n", run, (unsigned long long)seed);
+      return 0;
+    }
+    rows_.clear();
+    metricsFile_ = out_ / runFolder(run, seed) / "metrics-rows.csv";
+    return renderOne(run, seed) ? 0 : 130;
   }
 
   void renderReference() {
@@ -352,8 +401,10 @@ class Experiment {
         throw Error(c_.reference.file + ": reference is " + std::to_string(reference_.width) + "x" +
                     std::to_string(reference_.height) + ", the experiment renders " + std::to_string(c_.width) + "x" +
                     std::to_string(c_.height));
-      writeImage((out_ / "reference.exr").string(), reference_, {{"reference_file", c_.reference.file}});
-      writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+      if (!o_.onlyRun) {  // --only processes run side by side: the reference files are the others' to write
+        writeImage((out_ / "reference.exr").string(), reference_, {{"reference_file", c_.reference.file}});
+        writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+      }
       referenceSummary_ = {{"reference_file", c_.reference.file}};
       return;
     }
@@ -383,10 +434,13 @@ class Experiment {
       meta["cache_key"] = hex(fnv1a(key));
       writeImage(cached.string(), reference_, meta);
     }
-    std::error_code ec;
-    fs::remove(out_ / "reference.exr", ec);
-    fs::copy_file(cached, out_ / "reference.exr", fs::copy_options::overwrite_existing);
-    writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+    // --only processes run side by side: the reference files are the others' to write.
+    if (!o_.onlyRun) {
+      std::error_code ec;
+      fs::remove(out_ / "reference.exr", ec);
+      fs::copy_file(cached, out_ / "reference.exr", fs::copy_options::overwrite_existing);
+      writeImage((out_ / "reference.png").string(), reference_, {}, c_.display);
+    }
     // What every run's images say about the reference they were measured against.
     auto meta = readImageMetadata(cached.string());
     for (const char* k : {"integrator", "seed", "seconds", "spp", "passes", "photons", "git_revision"})
@@ -507,6 +561,7 @@ class Experiment {
   std::string configHash_;
   fs::path out_;
   bool resuming_ = false;
+  fs::path metricsFile_;  // empty: out_/metrics.csv
   ImageRGB reference_;
   std::map<std::string, std::string> referenceSummary_;  // reference_integrator, _seed, _seconds, ...
   std::vector<Row> rows_;

@@ -35,6 +35,15 @@ struct ExperimentOptions {
   bool force = false;     // overwrite a finished or different experiment in `out`
   bool quiet = false;
   int threads = -1;       // >= 0 overrides the config's threads
+  // For running one experiment as many processes (scripts/cluster.py): list the (run, seed)
+  // pairs; render only the reference; render only run `onlyRun` (1-based) with `onlySeed`, its
+  // metrics rows going to its own folder (runs/NN-label/seed-S/metrics-rows.csv) instead of
+  // metrics.csv, so that concurrent processes never write one file. A plain `run` afterwards
+  // finds every pair finished and writes metrics.csv from those rows.
+  bool listRuns = false;
+  bool referenceOnly = false;
+  int onlyRun = 0;
+  uint64_t onlySeed = 0;
 };
 
 // Returns the process exit code: 0 done, 130 interrupted (finished runs kept, resumable).

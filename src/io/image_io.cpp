@@ -110,6 +110,7 @@ void writeSlice(const std::string& path, const RenderSlice& part, const std::map
   for (auto& [key, value] : metadata) spec.attribute("photonlab:" + key, value);
   spec.attribute("photonlab:range_begin", std::to_string(part.begin));
   spec.attribute("photonlab:range_end", std::to_string(part.end));
+  spec.attribute("photonlab:range_step", std::to_string(part.step));
   spec.attribute("compression", "zip");
   // Every channel is 4 bytes: one uint32 buffer, the float channels' bits copied in.
   const size_t pixels = size_t(part.width) * part.height;
@@ -160,6 +161,7 @@ RenderSlice readSlice(const std::string& path) {
   try {
     part.begin = std::stoi(spec.get_string_attribute("photonlab:range_begin"));
     part.end = std::stoi(spec.get_string_attribute("photonlab:range_end"));
+    part.step = std::stoi(spec.get_string_attribute("photonlab:range_step", "1"));
   } catch (const std::exception&) {
     throw Error(path + ": a render slice without its range (range_begin, range_end)");
   }

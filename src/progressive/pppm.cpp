@@ -14,14 +14,20 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   const float r0 = setup.initialRadius;
   const Budget& budget = setup.budget;
   std::vector<uint32_t>& passes = setup.passes;
-  double r2 = double(r0) * r0;  // radius of the pass about to run
-  // A slice (--pass-range A:B) starts at pass A + 1 with the radius the whole render has there.
-  for (int p = 1; p <= ro.rangeBegin; ++p) r2 = pppmNextRadius2(r2, p, o.alpha);
-  double lastRadius = ro.rangeBegin > 0 ? std::sqrt(r2) : r0;
+  // Pass p's radius, r²_{p+1} = r²_p (p + α)/(p + 1) from r²_1 = r0²: advanced pass by pass, so
+  // that a slice (--pass-range, which may skip passes) uses the radius the whole render has.
+  double r2 = double(r0) * r0;
+  int radiusPass = 1;  // the pass r2 belongs to
+  auto advanceTo = [&](int p) {
+    for (; radiusPass < p; ++radiusPass) r2 = pppmNextRadius2(r2, radiusPass, o.alpha);
+  };
+  advanceTo(ro.sliced() ? ro.rangeBegin + 1 : 1);
+  double lastRadius = ro.sliced() && ro.rangeBegin > 0 ? std::sqrt(r2) : r0;
   // Exact sums (core/exact_sum.h), so that slices merge into the whole render's bits.
   std::vector<ExactSum> sum(pixels * 3);
 
   auto pass = [&](int p) {
+    advanceTo(p);
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
@@ -49,7 +55,6 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       }
     });
     lastRadius = de.radius;
-    r2 = pppmNextRadius2(r2, p, o.alpha);
     return true;
   };
   // Each pass is an independent image; a pixel's estimate is the mean over its passes.
@@ -64,7 +69,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   if (info && ro.sliced()) {
     auto partial = std::make_shared<RenderSlice>();
     partial->width = W, partial->height = H;
-    partial->begin = ro.rangeBegin, partial->end = ro.rangeEnd;
+    partial->begin = ro.rangeBegin, partial->end = ro.rangeEnd, partial->step = ro.rangeStep;
     partial->sums = std::move(sum);
     partial->counts = passes;
     info->slice = partial;

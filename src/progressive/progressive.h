@@ -152,17 +152,20 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     fill(last);
     return pi;
   };
-  // A slice (PPPM's --pass-range A:B) runs passes A + 1 ... B and counts from its start.
+  // A slice (PPPM's --pass-range A:B:K) runs passes A + 1, A + 1 + K, ... up to B, and counts
+  // from its start.
   const RenderOptions& ro = setup.image;
   const int first = ro.sliced() ? ro.rangeBegin + 1 : 1, final = ro.sliced() ? ro.rangeEnd : o.passes;
-  Progress progress(setup.image,
-                    ro.sliced() ? final - first + 1 : unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
+  const int step = ro.sliced() ? ro.rangeStep : 1;
+  Progress progress(setup.image, ro.sliced() ? (final - first) / step + 1
+                                             : unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
   Checkpoints checkpoints(setup.image, budget);
-  for (int p = first; p <= final && !budget.expired(); ++p) {
+  for (int p = first; p <= final && !budget.expired(); p += step) {
     if (pass(p)) ++tracedPasses;
-    progress.update(p - first + 1, budget.elapsed());
-    bool last = p == final || budget.expired();
-    checkpoints.after(p - first + 1, last, infoAt, image);
+    const int taken = (p - first) / step + 1;
+    progress.update(taken, budget.elapsed());
+    bool last = p + step > final || budget.expired();
+    checkpoints.after(taken, last, infoAt, image);
     if (last) break;
   }
   fill(true);

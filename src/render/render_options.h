@@ -40,10 +40,11 @@ struct RenderOptions {
   // after the last one; the time it takes is not counted in RenderInfo::seconds nor against
   // timeLimit.
   std::function<void(const ImageRGB&, const RenderInfo&)> checkpoint;
-  // --sample-range / --pass-range A:B: only samples (or passes) A, A+1, ..., B−1 of the full
-  // render, each keyed exactly as the full render keys it; their exact sums come back in
-  // RenderInfo::partial for `photonlab merge`. 0:0 is the whole render.
-  int rangeBegin = 0, rangeEnd = 0;
+  // --sample-range / --pass-range A:B[:K]: only samples (or passes) A, A+K, A+2K, ... below B
+  // of the full render, each keyed exactly as the full render keys it; their exact sums come
+  // back in RenderInfo::slice for `photonlab merge`. 0:0 is the whole render. Interleaved
+  // slices (K > 1) share out PPPM's passes evenly: early passes, with larger radii, cost more.
+  int rangeBegin = 0, rangeEnd = 0, rangeStep = 1;
   bool sliced() const { return rangeEnd > 0; }
 };
 
@@ -51,7 +52,7 @@ struct RenderOptions {
 // adds up. Summing slices in any grouping gives the bits the whole render has.
 struct RenderSlice {
   int width = 0, height = 0;
-  int begin = 0, end = 0;             // the samples or passes it holds
+  int begin = 0, end = 0, step = 1;   // the samples or passes it holds: begin, begin + step, ... < end
   std::vector<ExactSum> sums;         // width·height·3
   std::vector<uint32_t> counts;       // width·height
   ImageRGB mean() const;              // render/renderer.cpp

@@ -70,9 +70,10 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   // checkpoints count from the slice's start.
   const int first = o.sliced() ? o.rangeBegin : 0;
   const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
-  Progress progress(o, target - first);
+  Progress progress(o, o.sliced() ? (target - first + o.rangeStep - 1) / o.rangeStep : target);
   Checkpoints checkpoints(o, budget);
-  for (int s = first; s < target && !budget.expired(); ++s) {
+  const int step = o.sliced() ? o.rangeStep : 1;
+  for (int s = first; s < target && !budget.expired(); s += step) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. The budget is polled per pixel.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
@@ -92,9 +93,9 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
       }
     });
-    const int taken = s + 1 - first;
+    const int taken = (s - first) / step + 1;
     progress.update(taken, budget.elapsed());
-    bool last = s + 1 == target || budget.expired();
+    bool last = s + step >= target || budget.expired();
     checkpoints.after(taken, last, infoAt, estimate);
     if (last) break;
   }
@@ -104,7 +105,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     if (o.sliced()) {
       auto partial = std::make_shared<RenderSlice>();
       partial->width = W, partial->height = H;
-      partial->begin = o.rangeBegin, partial->end = o.rangeEnd;
+      partial->begin = o.rangeBegin, partial->end = o.rangeEnd, partial->step = o.rangeStep;
       partial->sums = std::move(sum);
       partial->counts = std::move(count);
       stats->slice = partial;
