@@ -131,6 +131,22 @@ TEST_CASE("slices: any split of a render merges into its bits (path by samples, 
   }
 }
 
+TEST_CASE("slices: the light-side integrators' iterations merge into their bits too (light, bdpt, vcm)") {
+  // Light tracing splats; bdpt and vcm add splats and camera-side sums (vcm's merge radius
+  // follows the iteration index, so each slice's iterations use the whole render's radii).
+  const std::string dir = GltfFixture::dir();
+  for (const char* integrator : {"light", "bdpt", "vcm"}) {
+    INFO(integrator);
+    const std::string common = "render " + kScene + " --integrator " + integrator + " --spp 6 --width 16 -q";
+    REQUIRE(run(common + " -o " + dir + "/lwhole.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 0:6:2 -o " + dir + "/l0.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 1:4:2 -o " + dir + "/l1.exr").code == 0);
+    REQUIRE(run(common + " --sample-range 5:6 -o " + dir + "/l2.exr").code == 0);
+    REQUIRE(run("merge " + dir + "/l2.exr " + dir + "/l1.exr " + dir + "/l0.exr -o " + dir + "/lmerged.exr").code == 0);
+    CHECK(identical(dir + "/lmerged.exr", dir + "/lwhole.exr"));
+  }
+}
+
 TEST_CASE("slices: what does not belong together is one line, exit 1, and no output") {
   const std::string dir = GltfFixture::dir();
   const std::string common = "render " + kScene + " --integrator path --spp 8 --width 16 -q";

@@ -321,7 +321,10 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
     seconds += std::stod(parts[i].meta.count("seconds") ? parts[i].meta.at("seconds") : "0");
     if (parts[i].meta.count("photons")) photons += std::stoull(parts[i].meta.at("photons"));
     if (i == 0) continue;
+    if (s.sums.size() != merged.sums.size() || s.splats.size() != merged.splats.size() || s.counts.size() != merged.counts.size())
+      throw Error(parts[i].path + ": not a slice of the same render as " + parts.front().path + " (its sums differ in kind or size)");
     for (size_t k = 0; k < merged.sums.size(); ++k) merged.sums[k].add(s.sums[k]);
+    for (size_t k = 0; k < merged.splats.size(); ++k) merged.splats[k].add(s.splats[k]);
     for (size_t k = 0; k < merged.counts.size(); ++k) merged.counts[k] += s.counts[k];
   }
   std::map<std::string, std::string> meta = parts.back().meta;  // the last slice's radius is the render's

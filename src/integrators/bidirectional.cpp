@@ -467,7 +467,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   const uint64_t lightStream = mix64(o.seed ^ 0x76636d6c69676874ULL);  // "vcmlight"
   const uint64_t lambdaStream = mix64(o.seed ^ 0x7663636c616d6264ULL);
 
-  std::vector<double> cameraSum(pixels * 3, 0.0);
+  std::vector<ExactSum> cameraSum(pixels * 3);  // exact: slices of a render add up to its bits
   std::vector<Spectrum> iterationColor(pixels);
   std::vector<double> strategySum(size_t(strategies) * pixels * 3, 0.0);
   std::vector<Spectrum> iterationStrategies(size_t(strategies) * pixels);
@@ -501,7 +501,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   };
   auto estimate = [&] {
     ImageRGB image = splatTotal.image(done > 0 ? 1.0 / done : 0.0);
-    for (size_t i = 0; i < pixels * 3; ++i) image.data[i] += done > 0 ? float(cameraSum[i] / done) : 0.0f;
+    for (size_t i = 0; i < pixels * 3; ++i) image.data[i] += done > 0 ? pixelMean(cameraSum[i], uint32_t(done)) : 0.0f;
     return image;
   };
 
@@ -509,10 +509,15 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   rgbImage.spectral = false;
   rgbImage.checkpoint = nullptr;
 
-  const int target = unitTarget(o.spp, o.timeLimit);
-  Progress progress(o, target);
+  // A slice (--sample-range A:B:K) runs iterations A, A + K, ... below B, each keyed (light
+  // paths, wavelengths, radius) as in the whole render.
+  if (o.sliced() && o_.strategies) throw Error("--aov strategies: not with a slice of the render");
+  const int first = o.sliced() ? o.rangeBegin : 0, step = o.sliced() ? o.rangeStep : 1;
+  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
+  const int iterations = o.sliced() ? (target - first + step - 1) / step : target;
+  Progress progress(o, iterations);
   Checkpoints checkpoints(o, budget);
-  for (int iteration = 0; iteration < target && !budget.expired(); ++iteration) {
+  for (int iteration = first; iteration < target && !budget.expired(); iteration += step) {
     Iteration it;
     it.width = W, it.height = H;
     it.pixels = float(pixels);
@@ -605,7 +610,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     if (cut) break;
 
     for (size_t i = 0; i < pixels; ++i)
-      for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)] += iterationColor[i][ch];
+      for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)].add(iterationColor[i][ch]);
     for (uint64_t n : rowNonFinite) nonFinite += n;
     splatIteration.clear();
     splatIteration.add(chunkSplats);
@@ -618,12 +623,24 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     }
     ++done;
     progress.update(done, budget.elapsed());
-    const bool last = done == target || budget.expired();
+    const bool last = done == iterations || budget.expired();
     checkpoints.after(done, last, infoAt, estimate);
     if (last) break;
   }
   checkpoints.finish(infoAt, estimate);
-  if (info) *info = infoAt(true);
+  if (info) {
+    *info = infoAt(true);
+    if (o.sliced()) {
+      auto slice = std::make_shared<RenderSlice>();
+      slice->width = W, slice->height = H;
+      slice->begin = o.rangeBegin, slice->end = o.rangeEnd, slice->step = o.rangeStep;
+      slice->sums = std::move(cameraSum);
+      slice->splats = splatTotal.sums();
+      slice->counts.assign(pixels, uint32_t(done));
+      info->slice = slice;
+      return slice->mean();
+    }
+  }
 
   strategyImages_.clear();
   for (int k = 0; k <= o_.maxDepth && o_.strategies; ++k)

@@ -85,6 +85,7 @@ class LightPathIntegrator : public Integrator {
   virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
   virtual void traceLightPath(const Scene& scene, LightPathContext& path) const = 0;
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // render/light_loop.cpp
+  const char* sliceUnit() const override { return "spp"; }
 };
 
 // Next-event estimation at a non-delta surface point: one light chosen by power, one point on

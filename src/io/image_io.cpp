@@ -85,13 +85,17 @@ bool isDisplayReferred(const std::string& path) {
 }
 
 namespace {
-constexpr int kPartialChannels = 3 + 1 + 3 * ExactSum::kLimbs * 2;
-
-std::vector<std::string> partialChannelNames() {
+// R, G, B, count, then each exact sum's five 64-bit limbs as 32-bit halves: sum.* for
+// camera-side samples, splat.* for light-side splats (either or both).
+std::vector<std::string> sliceChannelNames(bool sums, bool splats) {
   std::vector<std::string> names = {"R", "G", "B", "count"};
-  for (const char* c : {"R", "G", "B"})
-    for (int k = 0; k < ExactSum::kLimbs; ++k)
-      for (const char* half : {"lo", "hi"}) names.push_back(std::string("sum.") + c + "." + std::to_string(k) + "." + half);
+  for (const char* kind : {"sum", "splat"}) {
+    if ((std::string(kind) == "sum" && !sums) || (std::string(kind) == "splat" && !splats)) continue;
+    for (const char* c : {"R", "G", "B"})
+      for (int k = 0; k < ExactSum::kLimbs; ++k)
+        for (const char* half : {"lo", "hi"})
+          names.push_back(std::string(kind) + "." + c + "." + std::to_string(k) + "." + half);
+  }
   return names;
 }
 }  // namespace
@@ -102,10 +106,13 @@ void writeSlice(const std::string& path, const RenderSlice& part, const std::map
   fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".partial-" + std::to_string(getpid()) + ".exr");
   auto out = OIIO::ImageOutput::create(tmp.string());
   if (!out) throw Error(path + ": cannot create an image writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(part.width, part.height, kPartialChannels, OIIO::TypeDesc::UINT);
-  spec.channelnames = partialChannelNames();
-  spec.channelformats.assign(kPartialChannels, OIIO::TypeDesc::UINT);
-  for (int c = 0; c < 3; ++c) spec.channelformats[c] = OIIO::TypeDesc::FLOAT;
+  const bool sums = !part.sums.empty(), splats = !part.splats.empty();
+  const std::vector<std::string> names = sliceChannelNames(sums, splats);
+  const int channels = int(names.size());
+  OIIO::ImageSpec spec(part.width, part.height, channels, OIIO::TypeDesc::UINT);
+  spec.channelnames = names;
+  spec.channelformats.assign(size_t(channels), OIIO::TypeDesc::UINT);
+  for (int c = 0; c < 3; ++c) spec.channelformats[size_t(c)] = OIIO::TypeDesc::FLOAT;
   spec.alpha_channel = -1;
   for (auto& [key, value] : metadata) spec.attribute("photonlab:" + key, value);
   spec.attribute("photonlab:range_begin", std::to_string(part.begin));
@@ -114,17 +121,18 @@ void writeSlice(const std::string& path, const RenderSlice& part, const std::map
   spec.attribute("compression", "zip");
   // Every channel is 4 bytes: one uint32 buffer, the float channels' bits copied in.
   const size_t pixels = size_t(part.width) * part.height;
-  std::vector<uint32_t> data(pixels * kPartialChannels);
+  std::vector<uint32_t> data(pixels * size_t(channels));
   const ImageRGB mean = part.mean();
   for (size_t i = 0; i < pixels; ++i) {
-    uint32_t* d = &data[i * kPartialChannels];
+    uint32_t* d = &data[i * size_t(channels)];
     std::memcpy(d, &mean.data[i * 3], 3 * sizeof(float));
     d[3] = part.counts[i];
-    for (int c = 0; c < 3; ++c) {
-      const uint64_t* limbs = part.sums[i * 3 + c].limbs();
-      for (int k = 0; k < ExactSum::kLimbs; ++k) {
-        d[4 + (c * ExactSum::kLimbs + k) * 2] = uint32_t(limbs[k]);
-        d[4 + (c * ExactSum::kLimbs + k) * 2 + 1] = uint32_t(limbs[k] >> 32);
+    size_t at = 4;
+    for (const std::vector<ExactSum>* v : {&part.sums, &part.splats}) {
+      if (v->empty()) continue;
+      for (int c = 0; c < 3; ++c) {
+        const uint64_t* limbs = (*v)[i * 3 + size_t(c)].limbs();
+        for (int k = 0; k < ExactSum::kLimbs; ++k) d[at++] = uint32_t(limbs[k]), d[at++] = uint32_t(limbs[k] >> 32);
       }
     }
   }
@@ -146,13 +154,19 @@ void writeSlice(const std::string& path, const RenderSlice& part, const std::map
 RenderSlice readSlice(const std::string& path) {
   auto in = openInput(path);
   const OIIO::ImageSpec& spec = in->spec();
+  auto has = [&](const std::string& name) {
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channel_name(c) == name) return true;
+    return false;
+  };
+  const bool sums = has("sum.R.0.lo"), splats = has("splat.R.0.lo");
   // OpenEXR stores channels sorted by name: find each by its name.
-  const std::vector<std::string> names = partialChannelNames();
+  const std::vector<std::string> names = sliceChannelNames(sums, splats);
   std::vector<int> at(names.size(), -1);
   for (size_t i = 0; i < names.size(); ++i)
     for (int c = 0; c < spec.nchannels; ++c)
       if (spec.channel_name(c) == names[i]) at[i] = c;
-  bool ok = spec.nchannels == kPartialChannels;
+  bool ok = (sums || splats) && spec.nchannels == int(names.size());
   for (size_t i = 0; i < names.size() && ok; ++i)
     ok = at[i] >= 0 && spec.channelformat(at[i]).size() == 4 && (i < 3 || spec.channelformat(at[i]) == OIIO::TypeDesc::UINT);
   if (!ok) throw Error(path + ": not a render slice (photonlab render --sample-range or --pass-range writes them)");
@@ -165,23 +179,26 @@ RenderSlice readSlice(const std::string& path) {
   } catch (const std::exception&) {
     throw Error(path + ": a render slice without its range (range_begin, range_end)");
   }
-  const size_t pixels = size_t(part.width) * part.height;
-  std::vector<uint32_t> data(pixels * kPartialChannels);
+  const size_t pixels = size_t(part.width) * part.height, channels = names.size();
+  std::vector<uint32_t> data(pixels * channels);
   // Native formats (floats and uints, 4 bytes each), as written.
-  if (!in->read_image(0, 0, 0, kPartialChannels, OIIO::TypeDesc::UNKNOWN, data.data()))
+  if (!in->read_image(0, 0, 0, int(channels), OIIO::TypeDesc::UNKNOWN, data.data()))
     throw Error(path + ": cannot read pixels (" + in->geterror() + ")");
-  part.sums.resize(pixels * 3);
+  if (sums) part.sums.resize(pixels * 3);
+  if (splats) part.splats.resize(pixels * 3);
   part.counts.resize(pixels);
   for (size_t i = 0; i < pixels; ++i) {
-    const uint32_t* d = &data[i * kPartialChannels];
+    const uint32_t* d = &data[i * channels];
     part.counts[i] = d[at[3]];
-    for (int c = 0; c < 3; ++c) {
-      uint64_t limbs[ExactSum::kLimbs];
-      for (int k = 0; k < ExactSum::kLimbs; ++k) {
-        const size_t lo = 4 + (c * ExactSum::kLimbs + k) * 2;
-        limbs[k] = uint64_t(d[at[lo]]) | uint64_t(d[at[lo + 1]]) << 32;
+    size_t next = 4;
+    for (std::vector<ExactSum>* v : {&part.sums, &part.splats}) {
+      if (v->empty()) continue;
+      for (int c = 0; c < 3; ++c) {
+        uint64_t limbs[ExactSum::kLimbs];
+        for (int k = 0; k < ExactSum::kLimbs; ++k, next += 2)
+          limbs[k] = uint64_t(d[at[next]]) | uint64_t(d[at[next + 1]]) << 32;
+        (*v)[i * 3 + size_t(c)].setLimbs(limbs);
       }
-      part.sums[i * 3 + c].setLimbs(limbs);
     }
   }
   return part;

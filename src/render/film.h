@@ -10,6 +10,7 @@
 
 #include "core/common.h"
 #include "render/image.h"
+#include "render/render_options.h"
 
 namespace pl {
 
@@ -41,36 +42,38 @@ class SplatBuffer {
 
 class SplatFilm {
  public:
-  SplatFilm(int width, int height) : width_(width), height_(height), sum_(size_t(width) * height * 3, 0.0) {}
-  // Adds buffers in the order given (chunk order), in double precision.
+  SplatFilm(int width, int height) : width_(width), height_(height), sum_(size_t(width) * height * 3) {}
+  // Adds buffers in the order given (chunk order). The sums are exact (core/exact_sum.h), so the
+  // order does not matter to the result, and slices of a render add up to its bits.
   void add(const std::vector<SplatBuffer>& buffers) {
     for (const SplatBuffer& b : buffers) {
       for (const Splat& s : b.splats()) {
-        double* p = &sum_[size_t(s.pixel) * 3];
-        p[0] += s.r, p[1] += s.g, p[2] += s.b;
+        ExactSum* p = &sum_[size_t(s.pixel) * 3];
+        p[0].add(s.r), p[1].add(s.g), p[2].add(s.b);
       }
       nonFinite_ += b.nonFinite();
     }
   }
   void add(const SplatFilm& other) {
-    for (size_t i = 0; i < sum_.size(); ++i) sum_[i] += other.sum_[i];
+    for (size_t i = 0; i < sum_.size(); ++i) sum_[i].add(other.sum_[i]);
     nonFinite_ += other.nonFinite_;
   }
   void clear() {
-    std::fill(sum_.begin(), sum_.end(), 0.0);
+    std::fill(sum_.begin(), sum_.end(), ExactSum());
     nonFinite_ = 0;
   }
   // The sums times `scale`.
   ImageRGB image(double scale) const {
     ImageRGB img(width_, height_);
-    for (size_t i = 0; i < sum_.size(); ++i) img.data[i] = float(sum_[i] * scale);
+    for (size_t i = 0; i < sum_.size(); ++i) img.data[i] = splatValue(sum_[i], scale);
     return img;
   }
   uint64_t nonFinite() const { return nonFinite_; }
+  const std::vector<ExactSum>& sums() const { return sum_; }
 
  private:
   int width_, height_;
-  std::vector<double> sum_;
+  std::vector<ExactSum> sum_;
   uint64_t nonFinite_ = 0;
 };
 

@@ -41,10 +41,14 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   };
   auto estimate = [&] { return total.image(done > 0 ? 1.0 / done : 0.0); };
 
-  const int target = unitTarget(o.spp, o.timeLimit);
-  Progress progress(o, target);
+  // A slice (--sample-range A:B:K) traces iterations A, A + K, ... below B, keyed as the whole
+  // render keys them.
+  const int first = o.sliced() ? o.rangeBegin : 0, step = o.sliced() ? o.rangeStep : 1;
+  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
+  const int iterations = o.sliced() ? (target - first + step - 1) / step : target;
+  Progress progress(o, iterations);
   Checkpoints checkpoints(o, budget);
-  for (int s = 0; s < target && !budget.expired(); ++s) {
+  for (int s = first; s < target && !budget.expired(); s += step) {
     iteration.clear();
     std::atomic<bool> cut{false};
     for (uint64_t first = 0; first < chunks && !cut; first += blockChunks) {
@@ -71,12 +75,22 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
     total.add(iteration);
     ++done;
     progress.update(done, budget.elapsed());
-    const bool last = done == target || budget.expired();
+    const bool last = done == iterations || budget.expired();
     checkpoints.after(done, last, infoAt, estimate);
     if (last) break;
   }
   checkpoints.finish(infoAt, estimate);
-  if (info) *info = infoAt(true);
+  if (info) {
+    *info = infoAt(true);
+    if (o.sliced()) {
+      auto slice = std::make_shared<RenderSlice>();
+      slice->width = W, slice->height = H;
+      slice->begin = o.rangeBegin, slice->end = o.rangeEnd, slice->step = o.rangeStep;
+      slice->splats = total.sums();
+      slice->counts.assign(size_t(W) * H, uint32_t(done));
+      info->slice = slice;
+    }
+  }
   return estimate();
 }
 

@@ -53,14 +53,18 @@ struct RenderOptions {
 struct RenderSlice {
   int width = 0, height = 0;
   int begin = 0, end = 0, step = 1;   // the samples or passes it holds: begin, begin + step, ... < end
-  std::vector<ExactSum> sums;         // width·height·3
-  std::vector<uint32_t> counts;       // width·height
+  std::vector<ExactSum> sums;         // width·height·3: camera-side samples, each pixel's own
+  std::vector<ExactSum> splats;       // width·height·3: light-side splats (light, bdpt, ...), or empty
+  std::vector<uint32_t> counts;       // width·height: samples, or iterations for splats
+  // The image, as the integrator forms it: sums/count, splats·(1/n), or both added.
   ImageRGB mean() const;              // render/renderer.cpp
 };
 
 // A pixel's value from its exact sum and its sample count: the one division every render (and
 // every merge) makes, so that they agree bit for bit.
 inline float pixelMean(const ExactSum& sum, uint32_t count) { return float(sum.value() / count); }
+// A splatted pixel's value: its sum times 1/iterations (light-side integrators).
+inline float splatValue(const ExactSum& sum, double scale) { return float(sum.value() * scale); }
 
 struct RenderInfo {
   int spp = 0;             // samples every pixel has (per-pixel and light-side integrators)

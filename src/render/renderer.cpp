@@ -117,9 +117,16 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
 
 ImageRGB RenderSlice::mean() const {
   ImageRGB image(width, height);
-  for (size_t i = 0; i < counts.size(); ++i)
-    if (counts[i] > 0)
-      for (int c = 0; c < 3; ++c) image.data[i * 3 + c] = pixelMean(sums[i * 3 + c], counts[i]);
+  for (size_t i = 0; i < counts.size(); ++i) {
+    if (counts[i] == 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const size_t k = i * 3 + c;
+      // Formed exactly as the integrators form it (light_loop.cpp, bidirectional.cpp).
+      if (splats.empty()) image.data[k] = pixelMean(sums[k], counts[i]);
+      else if (sums.empty()) image.data[k] = splatValue(splats[k], 1.0 / counts[i]);
+      else image.data[k] = splatValue(splats[k], 1.0 / counts[i]) + pixelMean(sums[k], counts[i]);
+    }
+  }
   return image;
 }
 
