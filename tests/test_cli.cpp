@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_helpers.h"
 #include "gltf_fixture.h"
 
 using namespace pl::test;
@@ -14,24 +15,6 @@ using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-Result run(const std::string& args) {
-  std::string dir = GltfFixture::dir();
-  std::string cmd = std::string(PHOTONLAB_BINARY) + " " + args + " >" + dir + "/stdout.txt 2>" + dir + "/stderr.txt";
-  int status = std::system(cmd.c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir + "/stdout.txt"), slurp(dir + "/stderr.txt")};
-}
 
 void expectCleanFailure(const std::string& args, const std::string& output, const std::string& mentions) {
   fs::remove(output);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/exact_sum.h"
+#include "cli_helpers.h"
 #include "gltf_fixture.h"
 
 using namespace pl;
@@ -20,30 +21,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string err;
-};
-
-Result run(const std::string& args) {
-  std::string dir = GltfFixture::dir();
-  std::string cmd = std::string(PHOTONLAB_BINARY) + " " + args + " >/dev/null 2>" + dir + "/slices-stderr.txt";
-  int status = std::system(cmd.c_str());
-  std::ifstream f(dir + "/slices-stderr.txt");
-  std::stringstream s;
-  s << f.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
-}
-
 // `photonlab compare` prints rmse 0 only when every pixel is the same float.
 bool identical(const std::string& a, const std::string& b) {
-  std::string dir = GltfFixture::dir();
-  std::string cmd = std::string(PHOTONLAB_BINARY) + " compare " + a + " " + b + " >" + dir + "/slices-compare.txt 2>&1";
-  if (std::system(cmd.c_str()) != 0) return false;
-  std::ifstream f(dir + "/slices-compare.txt");
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str().find("\"rmse\": 0,") != std::string::npos;
+  Result r = run("compare " + a + " " + b);
+  return r.code == 0 && r.out.find("\"rmse\": 0,") != std::string::npos;
 }
 
 const std::string kScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";

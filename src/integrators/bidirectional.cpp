@@ -512,9 +512,8 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   // A slice (--sample-range A:B:K) runs iterations A, A + K, ... below B, each keyed (light
   // paths, wavelengths, radius) as in the whole render.
   if (o.sliced() && o_.strategies) throw Error("--aov strategies: not with a slice of the render");
-  const int first = o.sliced() ? o.rangeBegin : 0, step = o.sliced() ? o.rangeStep : 1;
-  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
-  const int iterations = o.sliced() ? (target - first + step - 1) / step : target;
+  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
+  const int first = range.first, target = range.end, step = range.step, iterations = range.count();
   Progress progress(o, iterations);
   Checkpoints checkpoints(o, budget);
   for (int iteration = first; iteration < target && !budget.expired(); iteration += step) {
@@ -631,14 +630,8 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   if (info) {
     *info = infoAt(true);
     if (o.sliced()) {
-      auto slice = std::make_shared<RenderSlice>();
-      slice->width = W, slice->height = H;
-      slice->begin = o.rangeBegin, slice->end = o.rangeEnd, slice->step = o.rangeStep;
-      slice->sums = std::move(cameraSum);
-      slice->splats = splatTotal.sums();
-      slice->counts.assign(pixels, uint32_t(done));
-      info->slice = slice;
-      return slice->mean();
+      info->slice = makeSlice(o, W, H, std::move(cameraSum), splatTotal.sums(), std::vector<uint32_t>(pixels, uint32_t(done)));
+      return info->slice->mean();
     }
   }
 

@@ -67,12 +67,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   };
   ImageRGB result = runPasses(setup, o, info, pass, image, [&] { return lastRadius; });
   if (info && ro.sliced()) {
-    auto partial = std::make_shared<RenderSlice>();
-    partial->width = W, partial->height = H;
-    partial->begin = ro.rangeBegin, partial->end = ro.rangeEnd, partial->step = ro.rangeStep;
-    partial->sums = std::move(sum);
-    partial->counts = passes;
-    info->slice = partial;
+    info->slice = makeSlice(ro, W, H, std::move(sum), {}, passes);
   }
   return result;
 }

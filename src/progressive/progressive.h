@@ -155,9 +155,9 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
   // A slice (PPPM's --pass-range A:B:K) runs passes A + 1, A + 1 + K, ... up to B, and counts
   // from its start.
   const RenderOptions& ro = setup.image;
-  const int first = ro.sliced() ? ro.rangeBegin + 1 : 1, final = ro.sliced() ? ro.rangeEnd : o.passes;
-  const int step = ro.sliced() ? ro.rangeStep : 1;
-  Progress progress(setup.image, ro.sliced() ? (final - first) / step + 1
+  const UnitRange range = unitRange(ro, o.passes);  // 0-based; pass p runs as p + 1
+  const int first = range.first + 1, final = range.end, step = range.step;
+  Progress progress(setup.image, ro.sliced() ? range.count()
                                              : unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
   Checkpoints checkpoints(setup.image, budget);
   for (int p = first; p <= final && !budget.expired(); p += step) {

@@ -43,9 +43,8 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
 
   // A slice (--sample-range A:B:K) traces iterations A, A + K, ... below B, keyed as the whole
   // render keys them.
-  const int first = o.sliced() ? o.rangeBegin : 0, step = o.sliced() ? o.rangeStep : 1;
-  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
-  const int iterations = o.sliced() ? (target - first + step - 1) / step : target;
+  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
+  const int first = range.first, target = range.end, step = range.step, iterations = range.count();
   Progress progress(o, iterations);
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
@@ -83,12 +82,7 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   if (info) {
     *info = infoAt(true);
     if (o.sliced()) {
-      auto slice = std::make_shared<RenderSlice>();
-      slice->width = W, slice->height = H;
-      slice->begin = o.rangeBegin, slice->end = o.rangeEnd, slice->step = o.rangeStep;
-      slice->splats = total.sums();
-      slice->counts.assign(size_t(W) * H, uint32_t(done));
-      info->slice = slice;
+      info->slice = makeSlice(o, W, H, {}, total.sums(), std::vector<uint32_t>(size_t(W) * H, uint32_t(done)));
     }
   }
   return estimate();

@@ -60,6 +60,24 @@ struct RenderSlice {
   ImageRGB mean() const;              // render/renderer.cpp
 };
 
+// The samples (or iterations, or 0-based passes) a render runs: all of [0, total), or its slice.
+struct UnitRange {
+  int first, end, step;
+  int count() const { return (end - first + step - 1) / step; }
+};
+inline UnitRange unitRange(const RenderOptions& o, int total) {
+  return o.sliced() ? UnitRange{o.rangeBegin, o.rangeEnd, o.rangeStep} : UnitRange{0, total, 1};
+}
+// A sliced render's result for RenderInfo::slice: its range from `o`, and its sums.
+inline std::shared_ptr<RenderSlice> makeSlice(const RenderOptions& o, int width, int height, std::vector<ExactSum> sums,
+                                              std::vector<ExactSum> splats, std::vector<uint32_t> counts) {
+  auto slice = std::make_shared<RenderSlice>();
+  slice->width = width, slice->height = height;
+  slice->begin = o.rangeBegin, slice->end = o.rangeEnd, slice->step = o.rangeStep;
+  slice->sums = std::move(sums), slice->splats = std::move(splats), slice->counts = std::move(counts);
+  return slice;
+}
+
 // A pixel's value from its exact sum and its sample count: the one division every render (and
 // every merge) makes, so that they agree bit for bit.
 inline float pixelMean(const ExactSum& sum, uint32_t count) { return float(sum.value() / count); }

@@ -68,11 +68,10 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
 
   // A slice renders samples [rangeBegin, rangeEnd) of the whole render; its progress and
   // checkpoints count from the slice's start.
-  const int first = o.sliced() ? o.rangeBegin : 0;
-  const int target = o.sliced() ? o.rangeEnd : unitTarget(o.spp, o.timeLimit);
-  Progress progress(o, o.sliced() ? (target - first + o.rangeStep - 1) / o.rangeStep : target);
+  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
+  const int first = range.first, target = range.end, step = range.step;
+  Progress progress(o, range.count());
   Checkpoints checkpoints(o, budget);
-  const int step = o.sliced() ? o.rangeStep : 1;
   for (int s = first; s < target && !budget.expired(); s += step) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. The budget is polled per pixel.
@@ -103,13 +102,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   if (stats) {
     *stats = infoAt(true);
     if (o.sliced()) {
-      auto partial = std::make_shared<RenderSlice>();
-      partial->width = W, partial->height = H;
-      partial->begin = o.rangeBegin, partial->end = o.rangeEnd, partial->step = o.rangeStep;
-      partial->sums = std::move(sum);
-      partial->counts = std::move(count);
-      stats->slice = partial;
-      return partial->mean();
+      stats->slice = makeSlice(o, W, H, std::move(sum), {}, std::move(count));
+      return stats->slice->mean();
     }
   }
   return estimate();
