@@ -63,7 +63,8 @@ struct RenderSlice {
 // The samples (or iterations, or 0-based passes) a render runs: all of [0, total), or its slice.
 struct UnitRange {
   int first, end, step;
-  int count() const { return (end - first + step - 1) / step; }
+  // In 64 bits: an unlimited render (a time budget alone) ends at INT32_MAX.
+  int count() const { return int((int64_t(end) - first + step - 1) / step); }
 };
 inline UnitRange unitRange(const RenderOptions& o, int total) {
   return o.sliced() ? UnitRange{o.rangeBegin, o.rangeEnd, o.rangeStep} : UnitRange{0, total, 1};
