@@ -88,11 +88,44 @@ class LightPathIntegrator : public Integrator {
   const char* sliceUnit() const override { return "spp"; }
 };
 
+// Power heuristic with β = 2.
+inline float powerHeuristic(float pdfA, float pdfB) {
+  float a = pdfA * pdfA, b = pdfB * pdfB;
+  return a + b > 0 ? a / (a + b) : 0.0f;
+}
+
 // Next-event estimation at a non-delta surface point: one light chosen by power, one point on
 // it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by
 // the power heuristic against BSDF sampling (Veach 1997); delta lights always get weight 1.
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
                         Rng& rng, bool mis);
+
+// The same with the area-light samples' weight given by the caller: lightWeight(lightPdf,
+// wiLocal, wiWorld), e.g. the power heuristic against the density of whatever samples the path's
+// next direction (the BSDF alone for a path tracer; a guided path tracer mixes in its guide).
+template <typename LightWeight>
+Spectrum estimateDirectWeighted(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal,
+                                const SampledWavelengths& lambda, Rng& rng, LightWeight&& lightWeight) {
+  const AliasTable& dist = scene.lightDistribution();
+  if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
+  float pmf;
+  size_t index = dist.sample(rng.uniform(), &pmf);
+  const Light& light = *scene.lights()[index];
+  Vec2 u(rng.uniform(), rng.uniform());
+  LightSample ls;
+  if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
+  Vec3 wi = hit.shading.toLocal(ls.wi);
+  const BSDFContext bc(hit.uv, lambda);
+  Spectrum f = hit.bsdf->eval(woLocal, wi, bc);
+  if (isBlack(f)) return Spectrum(0.0f);
+  // A light below the geometric surface cannot reach it, whatever the shading normal says.
+  if (glm::dot(ls.wi, hit.ng) * glm::dot(hit.shading.toWorld(woLocal), hit.ng) <= 0) return Spectrum(0.0f);
+  if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
+  float lightPdf = pmf * ls.pdf;
+  float weight = 1.0f;
+  if (!light.isDelta()) weight = lightWeight(lightPdf, wi, ls.wi);
+  return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
+}
 
 // Russian roulette's survival probability for a camera path of throughput β:
 // q = min(1, max β · etaScale), etaScale = ∏ η² over the path's refractions (pbrt-v4). Radiance
@@ -101,12 +134,6 @@ Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& w
 // glass of η = 1.5 was cut with probability 1 − 1/η² = 56% at every bounce from the fourth on.
 inline float russianRouletteSurvival(const Spectrum& beta, float etaScale) {
   return std::min(1.0f, maxComponent(beta) * etaScale);
-}
-
-// Power heuristic with β = 2.
-inline float powerHeuristic(float pdfA, float pdfB) {
-  float a = pdfA * pdfA, b = pdfB * pdfB;
-  return a + b > 0 ? a / (a + b) : 0.0f;
 }
 
 }  // namespace pl
