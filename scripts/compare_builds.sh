@@ -13,7 +13,7 @@ trap 'rm -rf "$tmp"' EXIT
 differ=0 compared=0
 for scene in "$root"/scenes/*.gltf; do
   name=$(basename "$scene" .gltf)
-  for integrator in direct whitted path photon ppm sppm pppm light bdpt bpm vcm; do
+  for integrator in direct whitted path photon ppm sppm pppm light bdpt bpm vcm guided; do
     case $integrator in
       photon) args="--spp 3 --photons 20000 --caustic-photons 20000" ;;
       ppm | sppm | pppm) args="--passes 3 --photons-per-pass 20000" ;;

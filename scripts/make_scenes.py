@@ -359,9 +359,60 @@ def smallvcm_box(light):
     return g
 
 
+def box(lo, hi, rotate_y=0.0, pivot=None):
+    """An axis-aligned box [lo, hi], turned by rotate_y radians about the vertical through pivot:
+    six quads, counter-clockwise seen from outside."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    faces = [[[x0, y0, z0], [x0, y0, z1], [x0, y1, z1], [x0, y1, z0]],   # -x
+             [[x1, y0, z0], [x1, y1, z0], [x1, y1, z1], [x1, y0, z1]],   # +x
+             [[x0, y0, z0], [x1, y0, z0], [x1, y0, z1], [x0, y0, z1]],   # -y
+             [[x0, y1, z0], [x0, y1, z1], [x1, y1, z1], [x1, y1, z0]],   # +y
+             [[x0, y0, z0], [x0, y1, z0], [x1, y1, z0], [x1, y0, z0]],   # -z
+             [[x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]]]   # +z
+    if rotate_y:
+        px, _, pz = pivot
+        c, s = math.cos(rotate_y), math.sin(rotate_y)
+        faces = [[[px + c * (v[0] - px) + s * (v[2] - pz), v[1], pz - s * (v[0] - px) + c * (v[2] - pz)] for v in f]
+                 for f in faces]
+    return faces
+
+
+def door():
+    """Veach's door left ajar (Veach 1997, fig. 10.3): a room lit only through a door opened by
+    12 degrees into the next room, whose ceiling light the camera cannot see. Light reaches the
+    camera's room after at least two bounces, through a gap a few centimetres wide: where a
+    path tracer's cosine-weighted directions rarely go, and a guide learns to."""
+    g = Gltf()
+    wall = g.material("wall", (0.7, 0.7, 0.7))
+    floor = g.material("floor", (0.5, 0.45, 0.4))
+    # The camera's room: x in [0, 4], y in [0, 2.6], z in [0, 4]; the light's room: z in [4.1, 7].
+    g.mesh("floor", *quads([[[0, 0, 0], [0, 0, 7], [4, 0, 7], [4, 0, 0]]]), floor)
+    g.mesh("room", *quads([[[0, 2.6, 0], [4, 2.6, 0], [4, 2.6, 7], [0, 2.6, 7]],    # ceiling
+                           [[0, 0, 0], [4, 0, 0], [4, 2.6, 0], [0, 2.6, 0]],        # front
+                           [[0, 0, 7], [0, 2.6, 7], [4, 2.6, 7], [4, 0, 7]],        # back
+                           [[0, 0, 0], [0, 2.6, 0], [0, 2.6, 7], [0, 0, 7]],        # left
+                           [[4, 0, 0], [4, 0, 7], [4, 2.6, 7], [4, 2.6, 0]]]), wall)  # right
+    # The wall between the rooms, 10 cm thick, with a doorway x in [1.5, 2.4], y in [0, 2].
+    partition = box([0, 0, 4.0], [1.5, 2.6, 4.1]) + box([2.4, 0, 4.0], [4, 2.6, 4.1]) + box([1.5, 2.0, 4.0], [2.4, 2.6, 4.1])
+    g.mesh("partition", *quads(partition), wall)
+    # The door, 4 cm thick, hinged on the doorway's left post at the light room's face, opened
+    # into the light room by 12 degrees: its free edge leaves a wedge about 19 cm deep.
+    g.mesh("door", *quads(box([1.5, 0.0, 4.1], [2.39, 1.99, 4.14], rotate_y=-math.radians(12), pivot=[1.5, 0, 4.1])),
+           g.material("door", (0.6, 0.5, 0.4)))
+    # Furniture in the camera's room, so that the indirect light has shapes to shade.
+    g.mesh("table", *quads(box([2.6, 0, 1.8], [3.5, 0.75, 2.8])), g.material("table", (0.6, 0.6, 0.6)))
+    g.mesh("cabinet", *quads(box([0.2, 0, 2.6], [0.8, 1.6, 3.6])), wall)
+    # The light: 1 m x 0.5 m on the light room's ceiling, near its far wall, facing down.
+    g.mesh("light", *quads([[[1.2, 2.59, 6.2], [2.2, 2.59, 6.2], [2.2, 2.59, 6.7], [1.2, 2.59, 6.7]]]),
+           g.material("light", (0, 0, 0), emission=(60.0, 60.0, 60.0)))
+    g.camera([3.6, 1.5, 0.3], [1.9, 0.9, 4.0], math.radians(60.0))
+    return g
+
+
 SCENES = {"cornell-box": cornell_box, "cornell-spheres": cornell_spheres,
           "glass-caustic": glass_caustic, "furnace": furnace, "prism": prism,
-          "smallvcm-sun": lambda: smallvcm_box("sun"), "smallvcm-point": lambda: smallvcm_box("point")}
+          "smallvcm-sun": lambda: smallvcm_box("sun"), "smallvcm-point": lambda: smallvcm_box("point"),
+          "door": door}
 
 if __name__ == "__main__":
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")

@@ -93,7 +93,7 @@ def experiment_block(results_dir):
 
 
 SHIPPED = ["quickstart", "caustics-equal-time", "kernels", "final-gather", "progressive-alpha", "bidirectional",
-           "bidirectional-point", "radiosity"]
+           "bidirectional-point", "radiosity", "path-guiding", "path-guiding-cornell"]
 
 
 def shipped_block(results_root):

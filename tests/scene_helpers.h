@@ -145,6 +145,24 @@ void checkMirrorCaustic(RenderFn&& render) {
   CHECK(pa.p99t < 4.5);
 }
 
+// The closed furnace (scenes/furnace.gltf: Le = 1, ρ = 0.5, every pixel's expectation 2), two
+// seeds' renders a and b: the mean within 1%, then no structure beyond noise: the pixels' spread
+// around 2 over the seeds' noise (variance mean(d²)/2 from their differences d) within
+// [0.7, 1.4] (a wrong importance or a biased weight would brighten some pixels).
+inline void checkFurnace(const ImageRGB& a, const ImageRGB& b) {
+  double mean = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) mean += (a.data[i] + b.data[i]) / 2.0;
+  CHECK(mean / a.data.size() == Approx(2.0).epsilon(0.01));
+  double spread = 0, noise = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) {
+    spread += ((a.data[i] - 2.0) * (a.data[i] - 2.0) + (b.data[i] - 2.0) * (b.data[i] - 2.0)) / 2;
+    noise += (a.data[i] - b.data[i]) * (a.data[i] - b.data[i]) / 2;
+  }
+  INFO("spread " << spread / a.data.size() << ", noise " << noise / a.data.size());
+  CHECK(spread / noise > 0.7);
+  CHECK(spread / noise < 1.4);
+}
+
 // Two estimators a and b of one image, each rendered with two seeds, compared over B×B regions:
 // z = (mean_a − mean_b)/√(var_a + var_b), the variances from the seeds' per-pixel differences.
 struct RegionAgreement {

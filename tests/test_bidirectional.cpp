@@ -56,15 +56,7 @@ TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 
     INFO(name);
     ImageRGB a = renderWith(*scene, name, 16, 16, 64, 1, {{"max_depth", 64}, {"radius", 0.05}});
     ImageRGB b = renderWith(*scene, name, 16, 16, 64, 2, {{"max_depth", 64}, {"radius", 0.05}});
-    CHECK((meanOf(a) + meanOf(b)) / 2 == Approx(2.0).epsilon(0.01));
-    double spread = 0, noise = 0;
-    for (size_t i = 0; i < a.data.size(); ++i) {
-      spread += ((a.data[i] - 2.0) * (a.data[i] - 2.0) + (b.data[i] - 2.0) * (b.data[i] - 2.0)) / 2;
-      noise += (a.data[i] - b.data[i]) * (a.data[i] - b.data[i]) / 2;
-    }
-    INFO("spread " << spread / a.data.size() << ", noise " << noise / a.data.size());
-    CHECK(spread / noise > 0.7);
-    CHECK(spread / noise < 1.4);
+    checkFurnace(a, b);
   }
   // Spectral: white light, so the luminance is 2. With merging, every path of an iteration
   // shares its three wavelengths (a merge joins paths of different pixels; the iterations' sets

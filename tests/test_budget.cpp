@@ -153,6 +153,32 @@ TEST_CASE("budget: the photon integrator stops inside its photon maps or its fin
   }
 }
 
+TEST_CASE("budget: path guiding's time budget covers training and photon tracing - it stops within 0.25 s of it") {
+  // A time budget alone: iterations double until the next would not fit, and the last runs until
+  // the budget ends; the photon guide's map (here 20M paths for its first iteration, ~10 s to
+  // trace) is cut short by the same budget. Either way the render returns within the allowed
+  // overshoot (Budget::granularity: 0.25 s for a 1 s budget), with a finite image.
+  auto scene = loadGltf(scenePath("cornell-box.gltf"));
+  for (const char* guide : {"sdtree", "photons"})
+    for (double photons : {100000.0, 20000000.0}) {
+      if (std::string(guide) == "sdtree" && photons > 100000) continue;
+      INFO(guide << ", " << photons << " photons");
+      RenderOptions ro;
+      ro.width = ro.height = 48;
+      ro.spp = 0;
+      ro.timeLimit = 1.0;
+      RenderInfo st;
+      auto t0 = std::chrono::steady_clock::now();
+      ImageRGB img = makeWith("guided", {{"photons", photons}}, ro, {{"guide", guide}})->render(*scene, ro, &st);
+      double t = secondsSince(t0);
+      INFO("render returned after " << t << " s, " << st.meanWork << " spp on average");
+      CHECK(t < 1.25);
+      CHECK(st.timeUp);
+      for (float v : img.data) REQUIRE(std::isfinite(v));
+      if (photons <= 100000) CHECK(st.meanWork > 8);  // it rendered, not only trained
+    }
+}
+
 TEST_CASE("budget: a pass cut short leaves every pixel it reached exactly its n + 1-pass estimate - the others their n-pass one") {
   // When the budget ends a pass half-way through its pixels, the pixels it reached have one pass
   // (or sample) more than the others, and each divides by its own count. Streams are keyed by

@@ -80,7 +80,7 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   // An unknown integrator lists them all (sorted by name: the registry's order).
   Result u = run("render " + scene + " -o " + out + " --integrator metropolis");
   CHECK(u.code == 1);
-  CHECK_THAT(u.err, Contains("unknown integrator 'metropolis' (bdpt, bpm, direct, light, path, photon, ppm, pppm, radiosity, sppm, vcm, whitted)"));
+  CHECK_THAT(u.err, Contains("unknown integrator 'metropolis' (bdpt, bpm, direct, guided, light, path, photon, ppm, pppm, radiosity, sppm, vcm, whitted)"));
   Result c = run("compare " + dir + "/nothing.exr " + dir + "/nothing.exr");
   CHECK(c.code == 1);
   CHECK_THAT(c.err, Contains("nothing.exr"));

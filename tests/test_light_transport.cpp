@@ -271,6 +271,27 @@ TEST_CASE("bidirectional: bdpt, vcm and bpm images of every light match ρ/π·E
     }
 }
 
+TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel - SD-tree and photon guides") {
+  // Path guiding weighs next-event estimation against directions drawn from the mixture of the
+  // BSDF and the guide, with the mixture's density in both MIS weights; at the area light,
+  // guided directions find the emitter as often as the guide learned it is there (from the
+  // paths' own records, or from photons' incident directions). A density missing from either
+  // weight moves the level there. 32×32 pixels, 64 spp (iterations 1, 2, 4, 8, 16, 33), seeds
+  // 1 and 2; the shadow rays' acceptance with a 2% median (the area light's pixels are noisier
+  // than direct lighting's: half their directions are not the light's).
+  for (const char* guide : {"sdtree", "photons"})
+    for (const LightCase& c : lightCases()) {
+      INFO(guide << ": " << c.name);
+      checkPerPixel(c, 32, 0.02, [&](const Scene& scene, uint64_t seed) {
+        RenderOptions ro;
+        ro.width = ro.height = 32;
+        ro.seed = seed;
+        ro.spp = 64;
+        return makeWith("guided", {{"spp", 64}, {"photons", 20000}}, ro, {{"guide", guide}})->render(scene, ro, nullptr);
+      });
+    }
+}
+
 TEST_CASE("radiosity: every light over a floor gives ρ/π·E per pixel") {
   // Radiosity's own paths for each light: delta lights shoot first (their irradiance at 16
   // shadow-rayed points per patch, Light::sampleLi), the area light is emitting patches

@@ -1,0 +1,425 @@
+// Path guiding (`--integrator guided`), readable top to bottom: the camera path with its mixture
+// of BSDF and guide sampling and the records it leaves, the iterations that train the guide and
+// how their images are combined, the registration.
+#include "integrators/guided.h"
+
+#include <cmath>
+
+#include "core/memory.h"
+#include "core/parallel.h"
+#include "integrators/registry.h"
+#include "render/camera_path.h"
+#include "render/checkpoints.h"
+#include "spectral/spectral.h"
+
+namespace pl {
+
+// --- one camera path ---------------------------------------------------------------------------
+
+namespace {
+
+// A vertex whose direction was sampled from the mixture: where the path was, which way it went
+// and with what density, its throughput after the scattering weight (before Russian roulette,
+// so that paths roulette ended count as the zero estimates they are), and the radiance gathered
+// before it left. What arrives later, divided by that throughput, is one estimate of the light
+// incident at the vertex from that direction (Müller et al. 2017, §4).
+// Plain floats: an array of 64 GLM vectors would be zeroed on every path (GLM_FORCE_CTOR_INIT).
+struct PathVertex {
+  uint32_t leaf;
+  float wi[3], pdf, beta[3], before[3];
+};
+constexpr int kRecordedVertices = 64;  // deeper vertices are not recorded (they carry ~nothing)
+// Russian roulette (see Li): the weight window's factor, the least survival probability, and
+// the bounce from which a path without the guide's estimate faces the path tracer's roulette.
+constexpr float kWindow = 5.0f, kFloor = 0.1f;
+constexpr int kFallbackDepth = 8;
+
+}  // namespace
+
+Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng,
+                              Guide& guide, bool record, int thread, float pixel) const {
+  Spectrum L(0.0f), beta(1.0f), rouletteBeta(1.0f);
+  float etaScale = 1.0f;
+  Ray ray = cameraRay;
+  bool specularBounce = true;
+  float scatterPdf = 0.0f;  // density of the last sampled direction: the mixture's at guided vertices
+  Vec3 previousPoint = ray.o;
+  PathVertex vertices[kRecordedVertices];
+  int recorded = 0;
+  for (int depth = 0;; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) break;
+
+    // Emission found by sampling: MIS against the next-event estimate made at the previous
+    // vertex, with the density the direction was really drawn from.
+    if (hit.light) {
+      Spectrum Le = hit.light->L(-ray.d, lambda);
+      if (specularBounce) {
+        L += beta * Le;
+      } else if (!isBlack(Le)) {
+        float lightPdf = scene.lightDistribution().pmf(size_t(hit.lightIndex)) * hit.light->pdfLi(previousPoint, hit.p);
+        L += beta * Le * powerHeuristic(scatterPdf, lightPdf);
+      }
+    }
+    if (depth >= options_.maxDepth) break;
+
+    const Vec3 wo = hit.shading.toLocal(-ray.d);
+    const BSDFContext bc(hit.uv, lambda);
+    const bool delta = hit.bsdf->isDelta();
+    // The guide at this point; where it knows nothing the BSDF samples alone (α = 1).
+    // The side of the surface the path is on: the geometric normal turned towards it.
+    const GuideLookup here =
+        delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
+    const DirectionalQuadtree* guideHere = here.distribution;
+    const float alpha = guideHere && !guideHere->empty() ? options_.bsdfFraction : 1.0f;
+    auto mixturePdf = [&](const Vec3& wiLocal, const Vec3& wiWorld, float bsdfPdf) {
+      return alpha < 1.0f ? alpha * bsdfPdf + (1 - alpha) * guideHere->pdf(wiWorld) : bsdfPdf;
+    };
+
+    if (!delta)
+      L += beta * estimateDirectWeighted(scene, hit, wo, lambda, rng, [&](float lightPdf, const Vec3& wi, const Vec3& wiW) {
+             return powerHeuristic(lightPdf, mixturePdf(wi, wiW, hit.bsdf->pdf(wo, wi, bc)));
+           });
+
+    // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
+    // f·|cosθ|/(α p_bsdf + (1 − α) p_guide) whichever drew the direction (Veach's balance
+    // heuristic for one sample), so the estimate is unbiased for any guide, and bounded by
+    // 1/α times BSDF sampling's where the guide is poor.
+    Vec3 wiLocal, wiWorld;
+    Spectrum weight;     // f·|cosθ|/pdf, pdf the mixture's
+    Spectrum unguided;   // f·|cosθ|/p_bsdf: the weight BSDF sampling alone would give this direction
+    float pdf;
+    float guidePdf = 0.0f;  // the guide's density for the direction taken (0 without a guide)
+    float eta = 1.0f;
+    bool sampledDelta = false;
+    const float uSelect = alpha < 1.0f ? rng.uniform() : 0.0f;
+    Vec2 u(rng.uniform(), rng.uniform());
+    if (uSelect < alpha) {
+      BSDFSample bs;
+      if (!hit.bsdf->sample(wo, bc, u, rng.uniform(), &bs)) break;
+      if (bs.terminatesSecondary) lambda.terminateSecondary();
+      wiLocal = bs.wi;
+      wiWorld = hit.shading.toWorld(bs.wi);
+      eta = bs.eta;
+      sampledDelta = bs.delta;
+      unguided = bs.weight;
+      if (bs.delta || alpha == 1.0f) {
+        // Only the BSDF can draw a delta lobe, and where α = 1 it is the only technique.
+        weight = bs.weight / alpha;
+        pdf = bs.pdf * alpha;
+      } else {
+        guidePdf = guideHere->pdf(wiWorld);
+        pdf = alpha * bs.pdf + (1 - alpha) * guidePdf;
+        weight = pdf > 0 ? hit.bsdf->eval(wo, wiLocal, bc) * (std::abs(wiLocal.z) / pdf) : Spectrum(0.0f);
+      }
+    } else {
+      wiWorld = guideHere->sample(u, &guidePdf);
+      wiLocal = hit.shading.toLocal(wiWorld);
+      const float bsdfPdf = hit.bsdf->pdf(wo, wiLocal, bc);
+      pdf = alpha * bsdfPdf + (1 - alpha) * guidePdf;
+      const Spectrum fCos = hit.bsdf->eval(wo, wiLocal, bc) * std::abs(wiLocal.z);
+      weight = pdf > 0 ? fCos / pdf : Spectrum(0.0f);
+      unguided = bsdfPdf > 0 ? fCos / bsdfPdf : weight;
+    }
+    if (isBlack(weight)) break;
+    // Reject directions that the shading normal allows but the geometry does not (light leaks).
+    bool transmitted = wiLocal.z * wo.z < 0;
+    if ((glm::dot(wiWorld, hit.ng) * glm::dot(-ray.d, hit.ng) < 0) != transmitted) break;
+    beta *= weight;
+    rouletteBeta *= unguided;
+    etaScale *= eta * eta;
+    specularBounce = sampledDelta;
+    scatterPdf = pdf;
+    previousPoint = hit.p;
+    if (record && !delta && recorded < kRecordedVertices)
+      vertices[recorded++] = {here.leaf, {wiWorld.x, wiWorld.y, wiWorld.z}, pdf, {beta.r, beta.g, beta.b}, {L.r, L.g, L.b}};
+    ray = scene.spawnRay(hit, wiWorld);
+
+    // Russian roulette by expected contribution where the guide knows it (adjoint-driven
+    // roulette, Vorba and Křivánek 2016, without splitting): the rest of the path is expected to
+    // bring β·L̂_i(x, ω), L̂_i from the guide (DirectionalQuadtree::radianceScale); it survives
+    // with q = min(1, W·β·L̂_i/Ĩ), at least 10%, Ĩ the pixel's value from the iterations before.
+    // Vorba et al.'s weight window has W = 3; the guide's L̂_i is a cell's average, so W = 5
+    // (measured below). A direction the guide finds where light comes from has a small weight
+    // f·cos/p, since its density is high: the path tracer's roulette on β would end exactly
+    // those paths and boost the few survivors by 1/q. On scenes/door.gltf, at a point of the door
+    // lit through the gap, one sample's relative variance was 44 with the path tracer's roulette,
+    // 5.4 with none; the path tracer's own was 47 (23 with none).
+    // Elsewhere (no pixel value yet, no learned guide here, a specular bounce): the path
+    // tracer's q = min(1, max β′·η²) (integrator.h) from the ninth bounce, on β′, the product of
+    // BSDF sampling's weights f·cos/p_bsdf, which the guide does not shrink (with no guide β′ = β).
+    // From the fourth, as the path tracer, it cost the same point a factor 2.5 in variance.
+    // Any q > 0 keeps the estimate unbiased.
+    // L̂_i(x, ω) from the guide (DirectionalQuadtree::radianceScale).
+    float incident = guidePdf > 0 ? guideHere->radianceScale() * guidePdf : 0.0f;
+    if (guidePdf > 0 && guideHere->cosineWeighted()) incident /= std::max(std::abs(wiLocal.z), 0.1f);
+    if (pixel > 0 && incident > 0 && !sampledDelta) {
+      const float q = std::clamp(kWindow * average(beta) * incident / pixel, kFloor, 1.0f);
+      if (q < 1) {
+        if (rng.uniform() >= q) break;
+        beta /= q;
+        rouletteBeta /= q;
+      }
+    } else if (depth >= kFallbackDepth) {
+      float q = russianRouletteSurvival(rouletteBeta, etaScale);
+      if (q <= 0 || rng.uniform() >= q) break;
+      beta /= q;
+      rouletteBeta /= q;
+    }
+  }
+  // What each recorded vertex received through its direction: the radiance gathered after it,
+  // over its throughput. Recorded divided by the density it was sampled with.
+  for (int i = 0; i < recorded; ++i) {
+    const PathVertex& v = vertices[i];
+    float incident = 0;
+    for (int c = 0; c < 3; ++c) incident += v.beta[c] > 0 ? std::max(0.0f, L[c] - v.before[c]) / v.beta[c] : 0.0f;
+    guide.record(v.leaf, Vec3(v.wi[0], v.wi[1], v.wi[2]), incident / 3 / v.pdf, thread);
+  }
+  return L;
+}
+
+// --- iterations --------------------------------------------------------------------------------
+
+std::vector<int> GuidedIntegrator::schedule(int spp) {
+  std::vector<int> n;
+  int64_t used = 0;
+  for (int k = 0; used < spp; ++k) {
+    int64_t samples = int64_t(1) << std::min(k, 30);
+    if (spp - used - samples < 2 * samples) samples = spp - used;
+    n.push_back(int(samples));
+    used += samples;
+  }
+  return n;
+}
+
+namespace {
+
+// One iteration's per-pixel sums: Σ L per channel, and Σ a and Σ a² of a = mean(L over channels)
+// for its variance; each pixel is touched by one thread per pass, in sample order.
+struct IterationSums {
+  std::vector<double> sum, a, a2;
+  std::vector<uint32_t> count;
+  explicit IterationSums(size_t pixels) : sum(3 * pixels, 0.0), a(pixels, 0.0), a2(pixels, 0.0), count(pixels, 0) {}
+};
+
+// The variance of one sample of this iteration, pooled over the pixels of one colour of a
+// checkerboard ((x + y) mod 2 = parity): Σ (Σa² − (Σa)²/n) / Σ (n − 1). With one sample per
+// pixel there is no within-pixel spread; then differences of diagonal neighbours (the same
+// colour) stand in, σ² ≈ mean((a_{x,y} − a_{x+1,y+1})²)/2, an overestimate wherever the image
+// has edges (it can only lower that iteration's weight).
+double sampleVariance(const IterationSums& it, int W, int H, int parity) {
+  double ss = 0, dof = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = (y + parity) & 1; x < W; x += 2) {
+      size_t i = size_t(y) * W + x;
+      if (it.count[i] < 2) continue;
+      ss += it.a2[i] - it.a[i] * it.a[i] / it.count[i];
+      dof += it.count[i] - 1;
+    }
+  if (dof > 0) return std::max(0.0, ss / dof);
+  double d2 = 0;
+  size_t pairs = 0;
+  for (int y = 0; y + 1 < H; ++y)
+    for (int x = (y + parity) & 1; x + 1 < W; x += 2) {
+      size_t i = size_t(y) * W + x, j = i + W + 1;
+      if (!it.count[i] || !it.count[j]) continue;
+      double d = it.a[i] / it.count[i] - it.a[j] / it.count[j];
+      d2 += d * d, ++pairs;
+    }
+  return pairs ? d2 / pairs / 2 : 0.0;
+}
+
+}  // namespace
+
+ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* stats) {
+  RenderOptions o = options;
+  Budget budget(o.timeLimit);  // started here: training and photon tracing count
+  resolveResolution(scene.camera(), o);
+  const int W = o.width, H = o.height;
+  const size_t pixels = size_t(W) * H;
+  const int threads = resolveThreads(o.threads);
+  checkMemory(mulSaturate(pixels, 6 * sizeof(double) + 4 * sizeof(double) + sizeof(uint32_t) + 3 * sizeof(float)),
+              std::to_string(W) + "x" + std::to_string(H) + " image");
+  GuideOptions go = options_.guideOptions;
+  go.maxDepth = options_.maxDepth;
+  go.spectral = o.spectral;
+  std::unique_ptr<Guide> guide = options_.guide == "photons" ? makePhotonGuide(scene, go) : makeSDTreeGuide(scene, go);
+
+  // The image so far: Σ_k w_k·(pixel mean of iteration k), and Σ_k w_k, per pixel, with
+  // w_k = n_k(pixel)/σ²_k: inverse-variance weights (the variance of a pixel's mean in
+  // iteration k is σ²_k/n_k). An iteration with a poorer guide has more variance and counts less.
+  // σ²_k is estimated on the other colour of a checkerboard than the pixel's: weights estimated
+  // from the pixel's own samples would be correlated with its values (an iteration that drew a
+  // firefly has a higher σ² and less weight), which biased the door scene's mean by −4% at
+  // 24×24; from other pixels' samples, the weights are independent of the values they weigh,
+  // and the combination is unbiased.
+  std::vector<double> numerator(3 * pixels, 0.0), denominator(pixels, 0.0);
+  std::vector<uint64_t> nonFinite(size_t(H), 0);
+  uint64_t samplesTaken = 0;
+  const bool lastOnly = options_.combine == "last";
+  auto addIteration = [&](const IterationSums& it, std::vector<double>& num, std::vector<double>& den) {
+    // Exact images (no noise) are weighted by their sample counts alone.
+    const double v[2] = {std::max(sampleVariance(it, W, H, 1), 1e-30), std::max(sampleVariance(it, W, H, 0), 1e-30)};
+    if (lastOnly) std::fill(num.begin(), num.end(), 0.0), std::fill(den.begin(), den.end(), 0.0);
+    for (size_t i = 0; i < pixels; ++i) {
+      if (!it.count[i]) continue;
+      const int parity = int((i % size_t(W) + i / size_t(W)) & 1);
+      const double w = it.count[i] / v[parity];  // the other colour's variance
+      for (int c = 0; c < 3; ++c) num[3 * i + c] += w * (it.sum[3 * i + c] / it.count[i]);
+      den[i] += w;
+    }
+  };
+  // Each pixel's value from the iterations before this one (channel mean; 0 before the first
+  // ends), for the roulette (Li).
+  auto pixelValue = [&](size_t i) {
+    return denominator[i] > 0
+               ? float((numerator[3 * i] + numerator[3 * i + 1] + numerator[3 * i + 2]) / (3 * denominator[i]))
+               : 0.0f;
+  };
+  std::unique_ptr<IterationSums> current;
+  auto estimate = [&] {
+    std::vector<double> num = numerator, den = denominator;
+    if (current) addIteration(*current, num, den);
+    ImageRGB image(W, H);
+    for (size_t i = 0; i < pixels; ++i)
+      if (den[i] > 0)
+        for (int c = 0; c < 3; ++c) image.data[3 * i + c] = float(num[3 * i + c] / den[i]);
+    return image;
+  };
+  int done = 0;  // samples per pixel every pixel has
+  auto infoAt = [&](bool last) {
+    RenderInfo st;
+    st.spp = done;
+    st.meanWork = pixels ? double(samplesTaken) / pixels : 0.0;
+    st.seconds = budget.elapsed();
+    for (auto n : nonFinite) st.nonFiniteSamples += n;
+    st.interrupted = interruptRequested();
+    st.timeUp = budget.timeUp();
+    st.last = last;
+    return st;
+  };
+
+  const int target = unitTarget(o.spp, o.timeLimit);
+  // With a sample count: the fixed schedule. With a time budget alone: iterations double while
+  // the time left after the next would still pay for one twice as long (measured seconds per
+  // sample of the iteration before), and the last runs until the budget is spent.
+  const std::vector<int> fixed = target < INT_MAX ? schedule(target) : std::vector<int>();
+  Progress progress(o, target);
+  Checkpoints checkpoints(o, budget);
+  double secondsPerSample = 0;
+  int iterations = 0, lastSamples = 0;
+  std::string guideSize;
+  std::vector<double> variances;  // each iteration's σ² of one sample, for the notes
+  for (int k = 0; !budget.expired(); ++k) {
+    int samples;
+    bool last;
+    if (!fixed.empty()) {
+      if (size_t(k) >= fixed.size()) break;
+      samples = fixed[size_t(k)];
+      last = size_t(k) + 1 == fixed.size();
+    } else {
+      samples = 1 << std::min(k, 24);
+      const double left = o.timeLimit - budget.elapsed();
+      last = k > 0 && left < 3 * secondsPerSample * samples;
+      if (last) samples = INT_MAX - done;
+    }
+    const double started = budget.elapsed();
+    guide->prepare(scene, k, samples, last, o.seed, threads, budget);
+    if (budget.expired()) break;
+    guideSize = guide->describe();
+    const bool record = guide->learns() && !last;
+    current = std::make_unique<IterationSums>(pixels);
+    IterationSums& it = *current;
+    for (int s = 0; s < samples && !budget.expired(); ++s) {
+      const int sample = done + s;  // keyed by the render's sample index, as every per-pixel loop
+      parallelFor(size_t(H), threads, [&](size_t y, int thread) {
+        for (int x = 0; x < W; ++x) {
+          if (budget.expired()) return;
+          const size_t pixel = size_t(y) * W + x;
+          CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample), JitterOrder::XThenY);
+          Spectrum L = Li(path.ray, scene, path.lambda, path.rng, *guide, record, thread, pixelValue(pixel));
+          if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
+          ++it.count[pixel];
+          if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
+            ++nonFinite[y];
+            continue;
+          }
+          for (int c = 0; c < 3; ++c) it.sum[3 * pixel + c] += L[c];
+          const double a = average(L);
+          it.a[pixel] += a, it.a2[pixel] += a * a;
+        }
+      });
+      if (!budget.expired()) {
+        const int total = done + s + 1;
+        progress.update(total, budget.elapsed());
+        checkpoints.after(total, total >= target, [&](bool l) {
+          RenderInfo st = infoAt(l);
+          st.spp = total;
+          return st;
+        }, estimate);
+      }
+    }
+    for (uint32_t n : it.count) samplesTaken += n;
+    uint32_t least = UINT32_MAX;
+    for (uint32_t n : it.count) least = std::min(least, n);
+    variances.push_back((sampleVariance(it, W, H, 0) + sampleVariance(it, W, H, 1)) / 2);
+    addIteration(it, numerator, denominator);
+    current.reset();
+    done += int(least);
+    ++iterations;
+    lastSamples = int(least);
+    secondsPerSample = (budget.elapsed() - started) / std::max(1, samples);
+    if (last) break;
+  }
+  checkpoints.finish(infoAt, estimate);
+  std::string sigma;
+  for (double v : variances) sigma += (sigma.empty() ? "" : ", ") + formatNumber(float(v));
+  notes_ = {std::to_string(iterations) + " iterations (the last " + std::to_string(lastSamples) + " spp), " +
+                (lastOnly ? "the last alone" : "combined by inverse variance") + "; guide: " + guideSize,
+            "variance of one sample, iteration by iteration: " + sigma};
+  if (stats) *stats = infoAt(true);
+  return estimate();
+}
+
+// --- registration ------------------------------------------------------------------------------
+
+namespace {
+
+std::vector<ParamSpec> guidedParams() {
+  ParamSpec guide{"guide", ParamType::Choice,
+                  "what the guide learns from: the render's own paths (SD-tree) or photons' incident directions", "sdtree"};
+  guide.choices = {"sdtree", "photons"};
+  ParamSpec fraction{"bsdf_fraction", ParamType::Real, "probability of sampling the BSDF instead of the guide", "0.5"};
+  fraction.lo = 0, fraction.hi = 1, fraction.openLow = true;
+  ParamSpec combine{"combine", ParamType::Choice, "how iterations make the image: weighted by inverse variance, or the last alone",
+                    "inverse-variance"};
+  combine.choices = {"inverse-variance", "last"};
+  ParamSpec spatial{"spatial_threshold", ParamType::Real,
+                    "sdtree: c, a spatial leaf splits past c·√spp records in one iteration (Müller et al.: 12000)", "12000"};
+  spatial.lo = 1, spatial.hi = 1e12;
+  ParamSpec photons{"photons", ParamType::Integer, "photons: emitted photon paths for the first iteration's map (doubling for five iterations)",
+                    "100000"};
+  photons.lo = 1, photons.hi = 4294967295.0;
+  ParamSpec k{"k", ParamType::Integer, "photons: the nearest photons each cached distribution is built from", "256"};
+  k.lo = 8, k.hi = 100000;
+  return {params::spp(), params::maxDepth(), guide, fraction, combine, spatial, photons, k};
+}
+
+const IntegratorRegistration registration({
+    "guided", "path guiding: path tracing with directions from a learned incident-light distribution (SD-tree or photons)",
+    guidedParams(),
+    [](const ParamSet& p, const RenderOptions&) {
+      GuidedOptions o;
+      o.maxDepth = int(p.integer("max_depth"));
+      o.guide = p.choice("guide");
+      o.bsdfFraction = float(p.real("bsdf_fraction"));
+      o.combine = p.choice("combine");
+      o.guideOptions.spatialThreshold = p.real("spatial_threshold");
+      o.guideOptions.photons = uint64_t(p.integer("photons"));
+      o.guideOptions.photonsPerDistribution = int(p.integer("k"));
+      return std::make_unique<GuidedIntegrator>(o);
+    }});
+
+}  // namespace
+
+}  // namespace pl
