@@ -66,8 +66,8 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     const Vec3 wo = hit.shading.toLocal(-ray.d);
     const BSDFContext bc(hit.uv, lambda);
     const bool delta = hit.bsdf->isDelta();
-    // The guide at this point; where it knows nothing the BSDF samples alone (α = 1).
-    // The side of the surface the path is on: the geometric normal turned towards it.
+    // The guide at this point, on the side of the surface the path is on (the geometric normal
+    // turned towards it); where it knows nothing the BSDF samples alone (α = 1).
     const GuideLookup here =
         delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
     const DirectionalQuadtree* guideHere = here.distribution;
