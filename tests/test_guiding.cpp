@@ -136,6 +136,14 @@ ImageRGB renderGuided(const Scene& scene, int W, int spp, uint64_t seed, const s
   return makeWith("guided", values, ro, {{"guide", guide}})->render(scene, ro, nullptr);
 }
 
+ImageRGB renderPathImage(const Scene& scene, int W, int spp, uint64_t seed) {
+  RenderOptions ro;
+  ro.width = ro.height = W;
+  ro.spp = spp;
+  ro.seed = seed;
+  return render(scene, *makeIntegrator("path", ro), ro, nullptr);
+}
+
 std::unique_ptr<Scene> sceneFile(const char* name) {
   return loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + name + ".gltf");
 }
@@ -265,12 +273,7 @@ TEST_CASE("guided agrees with the path tracer region by region on the Cornell bo
   RenderOptions ro;
   ro.width = ro.height = W;
   ro.spp = 256;
-  auto renderPath = [&](uint64_t seed) {
-    RenderOptions o = ro;
-    o.seed = seed;
-    return render(*scene, *makeIntegrator("path", o), o, nullptr);
-  };
-  ImageRGB p1 = renderPath(1), p2 = renderPath(2);
+  ImageRGB p1 = renderPathImage(*scene, W, 256, 1), p2 = renderPathImage(*scene, W, 256, 2);
   for (const char* guide : {"sdtree", "photons"})
     for (const char* combine : {"inverse-variance", "last"}) {
       INFO(guide << ", " << combine);
@@ -305,18 +308,14 @@ TEST_CASE("guided: on Veach's door the SD-tree guide lowers the variance of a sa
   RenderOptions ro;
   ro.width = ro.height = W;
   ro.spp = 256;
-  auto pathImage = [&](uint64_t seed) {
-    RenderOptions o = ro;
-    o.seed = seed;
-    return render(*scene, *makeIntegrator("path", o), o, nullptr);
-  };
   auto guidedImage = [&](uint64_t seed) {
     RenderOptions o = ro;
     o.seed = seed;
     return makeWith("guided", {{"spp", 256}}, o, {{"combine", "last"}})->render(*scene, o, nullptr);
   };
   REQUIRE(GuidedIntegrator::schedule(256).back() == 129);
-  ImageRGB p1 = pathImage(1), p2 = pathImage(2), g1 = guidedImage(1), g2 = guidedImage(2);
+  ImageRGB p1 = renderPathImage(*scene, W, 256, 1), p2 = renderPathImage(*scene, W, 256, 2);
+  ImageRGB g1 = guidedImage(1), g2 = guidedImage(2);
   auto noise = [](const ImageRGB& a, const ImageRGB& b) {
     double s = 0;
     for (size_t i = 0; i < a.data.size(); ++i) s += double(a.data[i] - b.data[i]) * (a.data[i] - b.data[i]) / 2;

@@ -34,8 +34,8 @@ class SDTreeGuide final : public Guide {
     leaves_.emplace_back();
     const float R = std::max(scene.bounds().radius(), 1e-6f);
     const double power = average(scene.totalPower());
-    radianceScale_ = power > 0 ? power / (4 * double(kPi) * kPi * R * R) : 1.0;
-    unit_ = radianceScale_ * 0x1p-28;
+    const double radianceScale = power > 0 ? power / (4 * double(kPi) * kPi * R * R) : 1.0;  // L₀
+    unit_ = radianceScale * 0x1p-28;
     cap_ = uint64_t(1) << 44;
   }
 
@@ -119,7 +119,7 @@ class SDTreeGuide final : public Guide {
   SpatialBinaryTree tree_;
   std::vector<Leaf> leaves_;
   DirectionalQuadtree empty_;
-  double radianceScale_ = 1, unit_ = 1;
+  double unit_ = 1;  // radiance/pdf per integer energy unit
   uint64_t cap_ = 0;
   int lastSamples_ = 1, threads_ = 1;
   bool learns_ = true;

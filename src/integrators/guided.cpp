@@ -72,13 +72,11 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
         delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
     const DirectionalQuadtree* guideHere = here.distribution;
     const float alpha = guideHere && !guideHere->empty() ? options_.bsdfFraction : 1.0f;
-    auto mixturePdf = [&](const Vec3& wiLocal, const Vec3& wiWorld, float bsdfPdf) {
-      return alpha < 1.0f ? alpha * bsdfPdf + (1 - alpha) * guideHere->pdf(wiWorld) : bsdfPdf;
-    };
-
+    // Next-event estimation, weighted against the mixture density of the light's direction.
     if (!delta)
       L += beta * estimateDirectWeighted(scene, hit, wo, lambda, rng, [&](float lightPdf, const Vec3& wi, const Vec3& wiW) {
-             return powerHeuristic(lightPdf, mixturePdf(wi, wiW, hit.bsdf->pdf(wo, wi, bc)));
+             const float bsdfPdf = hit.bsdf->pdf(wo, wi, bc);
+             return powerHeuristic(lightPdf, alpha < 1.0f ? alpha * bsdfPdf + (1 - alpha) * guideHere->pdf(wiW) : bsdfPdf);
            });
 
     // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
