@@ -4,9 +4,25 @@ namespace pl {
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
                         Rng& rng, bool mis) {
-  return estimateDirectWeighted(scene, hit, woLocal, lambda, rng, [&](float lightPdf, const Vec3& wi, const Vec3&) {
-    return mis ? powerHeuristic(lightPdf, hit.bsdf->pdf(woLocal, wi, BSDFContext(hit.uv, lambda))) : 1.0f;
-  });
+  const AliasTable& dist = scene.lightDistribution();
+  if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
+  float pmf;
+  size_t index = dist.sample(rng.uniform(), &pmf);
+  const Light& light = *scene.lights()[index];
+  Vec2 u(rng.uniform(), rng.uniform());
+  LightSample ls;
+  if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
+  Vec3 wi = hit.shading.toLocal(ls.wi);
+  const BSDFContext bc(hit.uv, lambda);
+  Spectrum f = hit.bsdf->eval(woLocal, wi, bc);
+  if (isBlack(f)) return Spectrum(0.0f);
+  // A light below the geometric surface cannot reach it, whatever the shading normal says.
+  if (glm::dot(ls.wi, hit.ng) * glm::dot(hit.shading.toWorld(woLocal), hit.ng) <= 0) return Spectrum(0.0f);
+  if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
+  float lightPdf = pmf * ls.pdf;
+  float weight = 1.0f;
+  if (mis && !light.isDelta()) weight = powerHeuristic(lightPdf, hit.bsdf->pdf(woLocal, wi, bc));
+  return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
 }
 
 }  // namespace pl

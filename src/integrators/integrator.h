@@ -100,33 +100,6 @@ inline float powerHeuristic(float pdfA, float pdfB) {
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
                         Rng& rng, bool mis);
 
-// The same with the area-light samples' weight given by the caller: lightWeight(lightPdf,
-// wiLocal, wiWorld), e.g. the power heuristic against the density of whatever samples the path's
-// next direction (the BSDF alone for a path tracer; a guided path tracer mixes in its guide).
-template <typename LightWeight>
-Spectrum estimateDirectWeighted(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal,
-                                const SampledWavelengths& lambda, Rng& rng, LightWeight&& lightWeight) {
-  const AliasTable& dist = scene.lightDistribution();
-  if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
-  float pmf;
-  size_t index = dist.sample(rng.uniform(), &pmf);
-  const Light& light = *scene.lights()[index];
-  Vec2 u(rng.uniform(), rng.uniform());
-  LightSample ls;
-  if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
-  Vec3 wi = hit.shading.toLocal(ls.wi);
-  const BSDFContext bc(hit.uv, lambda);
-  Spectrum f = hit.bsdf->eval(woLocal, wi, bc);
-  if (isBlack(f)) return Spectrum(0.0f);
-  // A light below the geometric surface cannot reach it, whatever the shading normal says.
-  if (glm::dot(ls.wi, hit.ng) * glm::dot(hit.shading.toWorld(woLocal), hit.ng) <= 0) return Spectrum(0.0f);
-  if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
-  float lightPdf = pmf * ls.pdf;
-  float weight = 1.0f;
-  if (!light.isDelta()) weight = lightWeight(lightPdf, wi, ls.wi);
-  return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
-}
-
 // Russian roulette's survival probability for a camera path of throughput β:
 // q = min(1, max β · etaScale), etaScale = ∏ η² over the path's refractions (pbrt-v4). Radiance
 // entering glass is compressed by 1/η² and expanded again on the way out; the path is no less
