@@ -273,10 +273,11 @@ TEST_CASE("bidirectional: bdpt, vcm and bpm images of every light match ρ/π·E
 
 TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel - SD-tree and photon guides") {
   // Path guiding weighs next-event estimation against directions drawn from the mixture of the
-  // BSDF and the guide, with the mixture's density in both MIS weights; at the area light,
-  // guided directions find the emitter as often as the guide learned it is there (from the
-  // paths' own records, or from photons' incident directions). A density missing from either
-  // weight moves the level there. 32×32 pixels, 64 spp (iterations 1, 2, 4, 8, 16, 33), seeds
+  // BSDF and the guide: both MIS weights with BSDF sampling's density, each hit divided by the
+  // mixture's. At the area light, guided directions find the emitter as often as the guide
+  // learned it is there (from the paths' own records, or from photons' incident directions). A
+  // pair of weights that does not sum to one, or a hit divided by the wrong density, moves the
+  // level there. 32×32 pixels, 64 spp (iterations 1, 2, 4, 8, 16, 33), seeds
   // 1 and 2; the shadow rays' acceptance with a 2% median (the area light's pixels are noisier
   // than direct lighting's: half their directions are not the light's).
   for (const char* guide : {"sdtree", "photons"})

@@ -13,7 +13,8 @@ struct GuidedOptions {
   std::string guide = "sdtree";  // sdtree | photons
   // One-sample MIS between the BSDF and the guide (Müller et al. 2017, §4): the BSDF is chosen
   // with this probability, the guide otherwise, and every direction is weighted by the mixture
-  // density α p_bsdf + (1 − α) p_guide, so that neither technique's weak spots dominate.
+  // density α p_bsdf + (1 − α) p_guide, so that neither technique's weak spots dominate. (MIS
+  // against next-event estimation uses p_bsdf alone: guided.cpp.)
   float bsdfFraction = 0.5f;
   // How iterations are combined into the image: weighted by inverse variance, or the last alone.
   std::string combine = "inverse-variance";
