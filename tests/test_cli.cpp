@@ -9,7 +9,10 @@
 
 #include "cli_helpers.h"
 #include "gltf_fixture.h"
+#include "integrator_helpers.h"
+#include "scene/gltf_loader.h"
 
+using namespace pl;
 using namespace pl::test;
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
@@ -58,6 +61,8 @@ TEST_CASE("cli: bad input gives one line - exit 1 - and no output file") {
   expectCleanFailure("render " + scene + " -o " + dir + "/never.jpg", dir + "/never.jpg", ".exr or .png");
   expectCleanFailure("render " + scene + " -o " + dir + "/no/such/dir/x.exr", dir + "/no/such/dir/x.exr", "does not exist");
   std::string photon = "render " + scene + " -o " + out + " --integrator photon ";
+  expectCleanFailure("render " + scene + " -o " + out + " --camera 1", out, "--camera");
+  expectCleanFailure("render " + scene + " -o " + out + " --camera -1", out, "--camera");
   expectCleanFailure(photon + "--kernel gauss", out, "--kernel");
   expectCleanFailure(photon + "--photons -5", out, "--photons");
   expectCleanFailure(photon + "--k 0", out, "--k");
@@ -105,6 +110,39 @@ TEST_CASE("cli: photonlab alone prints its usage") {
   CHECK_THAT(r.out, Contains("render"));
   CHECK_THAT(r.out, Contains("compare"));
   CHECK_THAT(r.out, Contains("Usage"));
+}
+
+TEST_CASE("cli: a file without a camera renders from the automatic view - info describes a file without lights") {
+  GltfFixture f;
+  f.doc["scenes"][0]["nodes"] = {0, 2};  // floor and light, no camera
+  std::string dir = GltfFixture::dir();
+  Result r = run("render " + f.write("cli-nocamera.gltf") + " -o " + dir + "/nocamera.exr --width 16 --spp 4 --threads 2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.err, Contains("automatic three-quarter view"));
+  CHECK(fs::file_size(dir + "/nocamera.exr") > 0);
+  // The floor, the whole scene, is in the middle of the view, lit; the corners, outside the
+  // bounding sphere's disc (27° from the axis against the disc's 20°), see nothing.
+  auto scene = loadGltf(f.write("cli-nocamera.gltf"));
+  RenderOptions ro;
+  ro.width = ro.height = 16;
+  ro.spp = 4;
+  ImageRGB image = makeWith("path", {{"spp", 4}})->render(*scene, ro, nullptr);
+  auto at = [&](int x, int y) { return image.data[3 * (size_t(y) * 16 + x)]; };
+  CHECK(at(8, 8) > 0);
+  CHECK(at(0, 0) == 0);
+  CHECK(at(15, 15) == 0);
+  GltfFixture g;
+  g.doc["scenes"][0]["nodes"] = {0, 1};  // floor and camera, no light
+  Result i = run("info " + g.write("cli-nolight.gltf"));
+  INFO(i.err);
+  REQUIRE(i.code == 0);
+  CHECK_THAT(i.out, Contains("cameras: 1 in the file"));
+  CHECK_THAT(i.out, Contains("0: nodes[1], cameras[0]"));
+  CHECK_THAT(i.out, Contains("lights: 0 (a render needs one"));
+  Result e = run("render " + g.write("cli-nolight.gltf") + " -o " + dir + "/nolight.exr");
+  CHECK(e.code != 0);
+  CHECK_THAT(e.err, Contains("no light"));
 }
 
 TEST_CASE("cli: info reports the lights' power in watts") {

@@ -175,10 +175,98 @@ TEST_CASE("loader errors: index out of range - huge accessor count - non-finite 
   loadError(k.write("inf.gltf"));
 }
 
-TEST_CASE("loader errors: no camera - no light - bad light and material values") {
+TEST_CASE("loader: a file without a camera is seen from the automatic three-quarter view, framed whole at any aspect") {
+  // The fixture's floor is the square [-1, 1]² at y = 0: bounding sphere centre 0, radius √2.
+  // The view (scene/camera.h): from azimuth 45° (between +Z and +X), elevation 30°, yfov 40°, at
+  // distance R/sin h, h the smaller half-angle, so the sphere touches the view cone: a ray at
+  // angle h from the axis towards the limiting edge is tangent to the sphere, and its tangent
+  // point, at distance √(D² − R²) = D·cos h, lands on that edge of the image.
   GltfFixture f;
   f.doc["scenes"][0]["nodes"] = {0, 2};
-  CHECK_THAT(loadError(f.write("nocamera.gltf")), Contains("camera"));
+  std::vector<std::string> warnings;
+  auto scene = loadGltf(f.write("nocamera.gltf"), &warnings);
+  CHECK(scene->fileCameras().empty());
+  CHECK_THAT(scene->cameraSource, Contains("automatic"));
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Contains("no perspective camera"));
+  const float R = std::sqrt(2.0f), pi = 3.14159265f;
+  struct Case {
+    int width, height;
+    float half;  // the limiting half-angle: vertical 20°, or horizontal atan(tan 20° · aspect)
+    bool vertical;
+  };
+  for (Case k : {Case{64, 64, 20 * pi / 180, true}, Case{128, 64, 20 * pi / 180, true},
+                 Case{32, 64, std::atan(std::tan(20 * pi / 180) * 0.5f), false}}) {
+    INFO(k.width << "x" << k.height);
+    GltfLoadOptions o;
+    o.aspect = float(k.width) / float(k.height);
+    const Camera c = loadGltf(f.write("nocamera.gltf"), nullptr, o)->camera();
+    const float D = R / std::sin(k.half);
+    const Vec3 away(std::cos(pi / 6) * std::sin(pi / 4), std::sin(pi / 6), std::cos(pi / 6) * std::cos(pi / 4));
+    CHECK(glm::length(c.position - D * away) < 1e-4f * D);
+    CHECK(glm::length(c.forward + away) < 1e-5f);
+    CHECK(std::abs(c.yfov - 40 * pi / 180) < 1e-6f);
+    CHECK(std::abs(c.up.y) > 0.5f);  // upright: +Y up
+    // Every corner of the floor is in the image.
+    for (float x : {-1.0f, 1.0f})
+      for (float z : {-1.0f, 1.0f}) {
+        Vec2 r;
+        CHECK(c.raster(glm::normalize(Vec3(x, 0, z) - c.position), k.width, k.height, &r));
+      }
+    // The tangent point towards the limiting edge lies on the sphere and on that edge.
+    const Vec3 edge = k.vertical ? c.up : c.right;
+    const Vec3 d = std::cos(k.half) * c.forward + std::sin(k.half) * edge * 0.99999f;
+    const Vec3 tangent = c.position + D * std::cos(k.half) * glm::normalize(d);
+    CHECK(std::abs(glm::length(tangent) - R) < 1e-3f * R);
+    Vec2 r;
+    REQUIRE(c.raster(glm::normalize(d), k.width, k.height, &r));
+    if (k.vertical) CHECK(r.y < 0.01f * k.height);
+    else CHECK(r.x > 0.99f * k.width);
+  }
+}
+
+TEST_CASE("loader: every camera a file places is listed, the first renders, and GltfLoadOptions::camera picks another") {
+  GltfFixture f;
+  f.doc["nodes"].push_back({{"name", "Top"}, {"camera", 1}, {"translation", {0, 3, 0}}, {"rotation", {-0.7071068, 0, 0, 0.7071068}}});
+  f.doc["cameras"].push_back({{"type", "perspective"}, {"name", "wide"}, {"perspective", {{"yfov", 1.2}, {"znear", 0.01}}}});
+  f.doc["cameras"].push_back({{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.01}, {"zfar", 10}}}});
+  f.doc["nodes"].push_back({{"camera", 2}});
+  f.doc["scenes"][0]["nodes"] = {0, 1, 2, 3, 4};
+  const std::string path = f.write("cameras.gltf");
+  std::vector<std::string> warnings;
+  auto first = loadGltf(path, &warnings);
+  REQUIRE(first->fileCameras().size() == 2);  // the orthographic one is not usable
+  CHECK_THAT(first->fileCameras()[1].name, Contains("nodes[3] 'Top', cameras[1] 'wide'"));
+  CHECK(first->camera().position.y == Approx(2));
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Contains("orthographic"));
+  GltfLoadOptions o;
+  o.camera = 1;
+  auto second = loadGltf(path, nullptr, o);
+  CHECK(second->camera().position.y == Approx(3));
+  CHECK(second->camera().yfov == Approx(1.2));
+  CHECK(second->camera().forward.y == Approx(-1).margin(1e-5));
+  o.camera = 2;
+  try {
+    loadGltf(path, nullptr, o);
+    FAIL("no error for a camera the file does not have");
+  } catch (const Error& e) {
+    CHECK_THAT(std::string(e.what()), Contains(path) && Contains("--camera") && Contains("2 perspective cameras"));
+  }
+}
+
+TEST_CASE("loader: a file without lights loads for inspection (requireLights = false), and is an error to render") {
+  GltfFixture g;
+  g.doc["scenes"][0]["nodes"] = {0, 1};
+  GltfLoadOptions o;
+  o.requireLights = false;
+  auto scene = loadGltf(g.write("nolight.gltf"), nullptr, o);
+  CHECK(scene->lights().empty());
+  CHECK(scene->triangleCount() == 2);
+  CHECK_THAT(loadError(g.write("nolight.gltf")), Contains("no light"));
+}
+
+TEST_CASE("loader errors: no light - bad light and material values") {
   GltfFixture g;
   g.doc["scenes"][0]["nodes"] = {0, 1};
   CHECK_THAT(loadError(g.write("nolight.gltf")), Contains("no light"));

@@ -48,9 +48,9 @@ nlohmann::ordered_json jsonValue(const std::string& v) {
   return v;
 }
 
-std::unique_ptr<Scene> loadScene(const std::string& path) {
+std::unique_ptr<Scene> loadScene(const std::string& path, const GltfLoadOptions& options = {}) {
   std::vector<std::string> warnings;
-  auto scene = loadGltf(path, &warnings);
+  auto scene = loadGltf(path, &warnings, options);
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   return scene;
 }
@@ -82,7 +82,10 @@ int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image,
 int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, RunSettings s, bool checkpoints,
               bool quiet, const Display& display) {
   for (auto& o : outputs) checkOutputPath(o);
-  auto scene = loadScene(scenePath);
+  GltfLoadOptions load;
+  load.camera = s.image.camera;
+  if (s.image.width > 0 && s.image.height > 0) load.aspect = float(s.image.width) / float(s.image.height);
+  auto scene = loadScene(scenePath, load);
   // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
   // the tree build, and the image so far is written (before, it ended the process at once).
   setInterruptCooperative(true);
@@ -190,14 +193,25 @@ int cmdImageInfo(const std::string& imagePath) {
 int cmdInfo(const std::string& scenePath) {
   std::string ext = fs::path(scenePath).extension().string();
   if (ext == ".exr" || ext == ".png") return cmdImageInfo(scenePath);
-  auto scene = loadScene(scenePath);
+  // Any loadable file: one without lights is described too (a render of it would stop at them).
+  GltfLoadOptions load;
+  load.requireLights = false;
+  auto scene = loadScene(scenePath, load);
   const Bounds& b = scene->bounds();
   std::printf("scene: %s\n", scenePath.c_str());
   std::printf("triangles: %zu\n", scene->triangleCount());
-  std::printf("bounds: [%g, %g, %g] - [%g, %g, %g] m\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
-  const Camera& c = scene->camera();
-  std::printf("camera: position [%g, %g, %g], forward [%g, %g, %g], yfov %g rad, aspect %g\n", c.position.x,
-              c.position.y, c.position.z, c.forward.x, c.forward.y, c.forward.z, c.yfov, c.aspectRatio);
+  if (b.empty()) std::printf("bounds: none (no triangles)\n");
+  else std::printf("bounds: [%g, %g, %g] - [%g, %g, %g] m\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+  auto describe = [](const Camera& c) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "position [%g, %g, %g], forward [%g, %g, %g], yfov %g rad, aspect %g", c.position.x,
+                  c.position.y, c.position.z, c.forward.x, c.forward.y, c.forward.z, c.yfov, c.aspectRatio);
+    return std::string(buf);
+  };
+  std::printf("cameras: %zu in the file (--camera N picks one)\n", scene->fileCameras().size());
+  for (size_t i = 0; i < scene->fileCameras().size(); ++i)
+    std::printf("  %zu: %s: %s\n", i, scene->fileCameras()[i].name.c_str(), describe(scene->fileCameras()[i].camera).c_str());
+  std::printf("camera used by default: %s: %s\n", scene->cameraSource.c_str(), describe(scene->camera()).c_str());
   std::printf("materials: %zu\n", scene->materials().size());
   for (auto& m : scene->materials())
     std::printf("  %-24s %-11s%s\n", m.name.c_str(), m.bsdf->name(),
@@ -209,7 +223,8 @@ int cmdInfo(const std::string& scenePath) {
     e.first++;
     e.second += l->power();
   }
-  std::printf("lights: %zu\n", scene->lights().size());
+  std::printf("lights: %zu%s\n", scene->lights().size(),
+              scene->lights().empty() ? " (a render needs one: KHR_lights_punctual lights or emissive materials)" : "");
   for (auto& [kind, e] : byKind)
     std::printf("  %-12s x%-6d power [%g, %g, %g] W\n", kind.c_str(), e.first, e.second.r, e.second.g, e.second.b);
   Spectrum total = scene->totalPower();
@@ -394,6 +409,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   auto* widthOpt = render->add_option("--width", options.width, "Image width in pixels (height follows the camera's aspect)");
   auto* heightOpt = render->add_option("--height", options.height, "Image height in pixels");
+  render->add_option("--camera", options.camera,
+                     "Which of the file's cameras renders, as photonlab info numbers them (default the first; a file "
+                     "without one: an automatic three-quarter view)")
+      ->check(CLI::NonNegativeNumber);
   auto* timeOpt = render->add_option("--time", options.timeLimit,
                                      "Time budget in seconds: the render stops when it is spent, wherever it is");
   int64_t seed = 1;
@@ -449,7 +468,7 @@ int main(int argc, char** argv) {
   bool markdown = false;
   integratorsCmd->add_flag("--markdown", markdown, "Markdown tables, as README's \"Integrators and their parameters\"");
 
-  auto* info = app.add_subcommand("info", "Triangles, materials, lights with their power (W), bounds; "
+  auto* info = app.add_subcommand("info", "Triangles, bounds, cameras, materials, lights with their power (W); "
                                           "or an image's metadata as JSON");
   std::string infoScene;
   info->add_option("file", infoScene, "glTF 2.0 scene, or an .exr written by photonlab")->required();

@@ -51,6 +51,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
       {"width", std::to_string(s.image.width)}, {"height", std::to_string(s.image.height)}};
   // Every declared parameter (unset ones as 0: e.g. radius 0, k nearest instead).
   for (const ParamSpec& p : s.params.specs()) m[p.metaKey()] = s.params.format(p);
+  if (s.image.camera >= 0) m["camera"] = std::to_string(s.image.camera);
   // Then what was done: the samples or passes reached (over the budget parameter, which only
   // said how many were asked for), photon paths traced, the gather radius reached.
   const std::string unit = s.budgetUnit();

@@ -21,6 +21,9 @@ inline bool isCheckpoint(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 struct RenderOptions {
   int width = 0, height = 0;  // 0: derived (see resolveResolution)
+  // Which of the scene file's cameras renders (GltfLoadOptions::camera); −1: the first, or the
+  // automatic view of a file without one. Read when the scene is loaded.
+  int camera = -1;
   // Samples per pixel of the per-pixel and light-side loops (0: until the time budget ends);
   // pass-based integrators count passes in their own parameters.
   int spp = 16;

@@ -94,4 +94,27 @@ struct Camera {
   }
 };
 
+// The view a file without a camera is rendered from: a three-quarter view, from the front
+// (+Z, the side glTF assets face), 45° to the right (+X) and 30° above the horizon (+Y up),
+// looking at the centre of the bounding sphere (center, radius). yfov is 40°. The distance
+// R / sin(h), with h the smaller of the vertical and horizontal half-angles for image aspect
+// `aspect` (width/height), puts the whole sphere inside the view cone of half-angle h, which
+// the image's frustum contains: nothing is cut off at any aspect. aspectRatio stays 0, so
+// the image keeps whatever size --width/--height give it.
+inline Camera automaticCamera(const Vec3& center, float radius, float aspect) {
+  constexpr float kAzimuth = 0.78539816f, kElevation = 0.52359878f, kYfov = 0.69813170f;
+  if (!(radius > 0) || !std::isfinite(radius)) radius = 1.0f;
+  if (!(aspect > 0) || !std::isfinite(aspect)) aspect = 1.0f;
+  const float halfV = 0.5f * kYfov, halfH = std::atan(std::tan(halfV) * aspect);
+  const float distance = radius / std::sin(std::min(halfV, halfH));
+  const Vec3 away(std::cos(kElevation) * std::sin(kAzimuth), std::sin(kElevation), std::cos(kElevation) * std::cos(kAzimuth));
+  Camera c;
+  c.yfov = kYfov;
+  c.position = center + distance * away;
+  c.forward = -away;
+  c.right = glm::normalize(glm::cross(c.forward, Vec3(0, 1, 0)));
+  c.up = glm::cross(c.right, c.forward);
+  return c;
+}
+
 }  // namespace pl

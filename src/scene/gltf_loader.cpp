@@ -94,7 +94,8 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
 
 class Loader {
  public:
-  Loader(std::string path, std::vector<std::string>* warnings) : path_(std::move(path)), warnings_(warnings) {}
+  Loader(std::string path, std::vector<std::string>* warnings, GltfLoadOptions options = {})
+      : path_(std::move(path)), warnings_(warnings), options_(options) {}
   // From memory (the fuzz target): `bytes` is the file; external URIs resolve against nothing.
   Loader(std::string name, const unsigned char* bytes, size_t size, std::vector<std::string>* warnings)
       : path_(std::move(name)), warnings_(warnings), bytes_(bytes), size_(size) {}
@@ -116,9 +117,25 @@ class Loader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!isChild[i]) visit(int(i), Mat4(1.0f), 0);
     }
-    if (!scene_->hasCamera()) fail("cameras", "no perspective camera in the scene");
+    const auto& cameras = scene_->fileCameras();
+    if (options_.camera >= int(cameras.size()))
+      fail("--camera", std::to_string(options_.camera) + " is out of range: the file places " + std::to_string(cameras.size()) +
+                           " perspective camera" + (cameras.size() == 1 ? "" : "s") + " (photonlab info lists them)");
+    if (!cameras.empty()) {
+      const Scene::FileCamera& chosen = cameras[size_t(std::max(options_.camera, 0))];
+      scene_->setCamera(chosen.camera);
+      scene_->cameraSource = chosen.name;
+    }
     scene_->commit();
-    if (scene_->lights().empty()) fail("lights", "no light: neither KHR_lights_punctual lights nor emissive materials");
+    if (cameras.empty()) {
+      const Bounds& b = scene_->bounds();
+      scene_->setCamera(b.empty() ? automaticCamera(Vec3(0.0f), 1.0f, options_.aspect)
+                                  : automaticCamera(b.center(), b.radius(), options_.aspect));
+      scene_->cameraSource = "automatic (three-quarter view of the bounds)";
+      warn("no perspective camera: rendering from an automatic three-quarter view of the scene's bounds");
+    }
+    if (scene_->lights().empty() && options_.requireLights)
+      fail("lights", "no light: neither KHR_lights_punctual lights nor emissive materials");
     if (average(scene_->totalPower()) <= 0) warn("the lights emit no power: the image will be black");
     return std::move(scene_);
   }
@@ -454,7 +471,7 @@ class Loader {
     if (!withinScene(Vec3(world[3])))
       fail(el, "transform places it beyond 1e7 m from the origin (coordinates are in metres)");
     if (node.mesh >= 0) addMesh(node.mesh, world);
-    if (node.camera >= 0) addCamera(node.camera, world, el);
+    if (node.camera >= 0) addCamera(node.camera, index, world, el);
     if (auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
       double light;
       if (!getNumber(*ext, "light", &light)) fail(el + ".KHR_lights_punctual", "missing light index");
@@ -463,11 +480,14 @@ class Loader {
     for (int child : node.children) visit(child, world, depth + 1);
   }
 
-  void addCamera(int index, const Mat4& world, const std::string& el) {
+  void addCamera(int index, int nodeIndex, const Mat4& world, const std::string& el) {
     if (index >= int(model_.cameras.size())) fail(el + ".camera", "index out of range");
     const tinygltf::Camera& cam = model_.cameras[index];
-    if (cam.type != "perspective" || scene_->hasCamera()) return;  // the first perspective camera wins
     std::string cel = "cameras[" + std::to_string(index) + "]";
+    if (cam.type != "perspective") {
+      warn(el + ": " + cel + " is " + (cam.type.empty() ? "untyped" : cam.type) + ", not perspective: ignored");
+      return;
+    }
     Camera c;
     c.yfov = float(cam.perspective.yfov);
     c.aspectRatio = float(cam.perspective.aspectRatio);
@@ -479,7 +499,10 @@ class Loader {
     c.right = glm::normalize(glm::cross(c.forward, up));
     c.up = glm::cross(c.right, c.forward);
     if (!isFinite(c.position) || !isFinite(c.forward) || !isFinite(c.right)) fail(el, "degenerate camera transform");
-    scene_->setCamera(c);
+    const std::string& nodeName = model_.nodes[size_t(nodeIndex)].name;
+    const std::string& cameraName = cam.name;
+    std::string name = el + (nodeName.empty() ? "" : " '" + nodeName + "'") + ", " + cel + (cameraName.empty() ? "" : " '" + cameraName + "'");
+    scene_->addFileCamera({name, c});
   }
 
   void addLight(int index, const Mat4& world) {
@@ -633,6 +656,7 @@ class Loader {
 
   std::string path_;
   std::vector<std::string>* warnings_;
+  GltfLoadOptions options_;
   const unsigned char* bytes_ = nullptr;
   size_t size_ = 0;
   tinygltf::Model model_;
@@ -643,8 +667,8 @@ class Loader {
 
 }  // namespace
 
-std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings) {
-  return Loader(path, warnings).load();
+std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings, const GltfLoadOptions& options) {
+  return Loader(path, warnings, options).load();
 }
 
 std::unique_ptr<Scene> loadGltfFromMemory(const std::string& name, const void* bytes, size_t size,

@@ -9,9 +9,19 @@
 
 namespace pl {
 
+struct GltfLoadOptions {
+  // Which of the file's cameras renders: the index in Scene::fileCameras() (the nodes with a
+  // perspective camera, in scene order, as `photonlab info` lists them); -1: the first. A file
+  // with none is rendered from automaticCamera() (scene/camera.h), with a warning.
+  int camera = -1;
+  float aspect = 1.0f;         // width/height of the image, for the automatic camera's framing
+  bool requireLights = true;   // false: load a file without lights (`photonlab info`)
+};
+
 // Throws Error("FILE: ELEMENT: what is wrong") on any bad input. Warnings (things ignored or
 // approximated) are appended to `warnings`.
-std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings = nullptr);
+std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings = nullptr,
+                                const GltfLoadOptions& options = {});
 
 // The same from the bytes of a .gltf or .glb (`name` only names it in messages). External files
 // are not read: buffers and images must be embedded (data URIs or the GLB's BIN chunk).

@@ -59,6 +59,12 @@ class Scene {
                const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material);
   void addLight(std::unique_ptr<Light> light);
   void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
+  // A camera the file places (a node with a perspective camera), named as `info` lists it.
+  struct FileCamera {
+    std::string name;  // "nodes[3] 'Front', cameras[1]"
+    Camera camera;
+  };
+  void addFileCamera(FileCamera camera) { fileCameras_.push_back(std::move(camera)); }
   // Builds the BVH, one AreaLight per emissive triangle and the light-selection distribution.
   void commit();
 
@@ -78,6 +84,10 @@ class Scene {
 
   const Camera& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }
+  // Every camera the file places, in scene order (`--camera N` picks the N-th), and which one
+  // renders ("automatic" where the file has none).
+  const std::vector<FileCamera>& fileCameras() const { return fileCameras_; }
+  std::string cameraSource;
   const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
   // Lights are chosen in proportion to their power (average over RGB).
   const AliasTable& lightDistribution() const { return lightDistribution_; }
@@ -110,6 +120,7 @@ class Scene {
   std::vector<std::unique_ptr<Light>> lights_;
   AliasTable lightDistribution_;
   Camera camera_;
+  std::vector<FileCamera> fileCameras_;
   bool hasCamera_ = false, committed_ = false;
   Bounds bounds_;
   float epsilon_ = 1e-4f;
