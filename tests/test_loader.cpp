@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <functional>
 
 #include "bsdfs/dielectric.h"
@@ -149,7 +150,20 @@ TEST_CASE("loader errors: short buffer - missing external buffer - view past the
   GltfFixture g;
   std::string path = g.writeWithExternalBuffer("missing-bin.gltf");
   std::filesystem::remove(path + ".bin");
-  loadError(path);
+  CHECK_THAT(loadError(path), Contains("buffers[0].uri: file not found") && Contains("missing-bin.gltf.bin"));
+  // A percent-encoded URI names the decoded file; present, it loads.
+  GltfFixture e;
+  std::string spaced = e.writeWithExternalBuffer("with space.gltf");
+  json doc = json::parse(std::ifstream(spaced));
+  doc["buffers"][0]["uri"] = "with%20space.gltf.bin";
+  std::ofstream(spaced) << doc.dump();
+  CHECK(loadGltf(spaced)->triangleCount() == 2);
+  // A missing texture file: named by its image, not "unsupported image".
+  GltfFixture t;
+  t.doc["images"] = {{{"uri", "textures/albedo.png"}}};
+  t.doc["textures"] = {{{"source", 0}}};
+  t.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  CHECK_THAT(loadError(t.write("missing-image.gltf")), Contains("images[0].uri: file not found") && Contains("albedo.png"));
   GltfFixture h;
   h.doc["bufferViews"][1]["byteLength"] = 400;
   CHECK_THAT(loadError(h.write("view.gltf")), Contains("bufferViews[1]"));
@@ -336,6 +350,36 @@ TEST_CASE("loader errors: a value of the wrong JSON type names the element - .gl
   ok.doc["nodes"][0]["someTool"] = {{"anything", "goes"}};
   ok.doc["materials"][0]["extensions"]["VENDOR_unknown"] = {{"x", "y"}};
   CHECK_NOTHROW(loadGltf(ok.write("types-ok.gltf")));
+}
+
+TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it; ignored features are one warning each") {
+  GltfFixture d;
+  d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
+  d.doc["extensionsRequired"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
+  CHECK_THAT(loadError(d.write("draco.gltf")),
+             Contains("extensionsRequired[1]: KHR_draco_mesh_compression is required by the file and photonlab does not implement it"));
+  GltfFixture m;
+  m.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // implemented: loads
+  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_texture_transform"};
+  m.doc["materials"][0]["name"] = "seat";
+  m.doc["materials"][0]["extensions"] = {{"KHR_materials_sheen", json::object()}, {"KHR_materials_clearcoat", json::object()}};
+  m.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.5;
+  for (int i = 0; i < 3; ++i)
+    m.doc["materials"].push_back({{"extensions", {{"KHR_materials_sheen", json::object()}}},
+                                  {"pbrMetallicRoughness", {{"metallicFactor", 0.5}}}});
+  std::vector<std::string> warnings;
+  loadGltf(m.write("ignored.gltf"), &warnings);
+  auto count = [&](const std::string& text) {
+    return std::count_if(warnings.begin(), warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  CHECK(count("KHR_materials_sheen") == 1);
+  CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_sheen is not implemented: ignored") == 1);
+  CHECK(count("materials[0] 'seat': KHR_materials_clearcoat is not implemented: ignored") == 1);
+  CHECK(count("extensionsUsed: KHR_texture_transform is not implemented: ignored") == 1);
+  CHECK(count("KHR_lights_punctual") == 0);
+  // The loader's own approximations are said the same way: once for the four materials.
+  CHECK(count("materials[0] 'seat' (and 3 more): metallicFactor between 0 and 1 is rendered as Lambertian") == 1);
+  CHECK(count("metallicFactor") == 1);
 }
 
 TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - looked up by TEXCOORD_0") {

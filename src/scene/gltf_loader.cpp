@@ -2,7 +2,11 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
 #include <fstream>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
@@ -151,8 +155,18 @@ class Loader {
   void parse() {
     // tinygltf ignores a property of the wrong type, or reports it without saying where;
     // photonlab refuses it first, naming the element (gltf_schema.h).
-    std::string typeError = checkGltfTypes(jsonText());
+    const std::string text = jsonText();
+    std::string typeError = checkGltfTypes(text);
     if (!typeError.empty()) throw Error(path_ + ": " + typeError);
+    // Required extensions and external files, before tinygltf (which calls a missing buffer
+    // "json" and a missing image "unsupported"); a load from memory has no folder to look in.
+    std::string directory;
+    if (!bytes_) {
+      directory = std::filesystem::path(path_).parent_path().string();
+      if (directory.empty()) directory = ".";
+    }
+    std::string missing = checkGltfRequirements(text, directory);
+    if (!missing.empty()) throw Error(path_ + ": " + missing);
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(loadImageChecked, nullptr);
     std::string err, warn;
@@ -355,12 +369,57 @@ class Loader {
     return image;
   }
 
+  // What the file uses that photonlab does not render, each feature in one line: an extension
+  // with the first material using it (and how many more do), any other unimplemented
+  // extension, skins, animations and morph targets.
+  void warnIgnored() {
+    const auto& supported = supportedGltfExtensions();
+    auto implemented = [&](const std::string& name) { return std::find(supported.begin(), supported.end(), name) != supported.end(); };
+    std::set<std::string> byMaterial;
+    for (size_t i = 0; i < model_.materials.size(); ++i)
+      for (const auto& ext : model_.materials[i].extensions)
+        if (!implemented(ext.first)) {
+          ignoredInMaterial(i, ext.first + " is not implemented: ignored");
+          byMaterial.insert(ext.first);
+        }
+    for (const std::string& name : model_.extensionsUsed)
+      if (!implemented(name) && !byMaterial.count(name)) warn("extensionsUsed: " + name + " is not implemented: ignored");
+    if (!model_.skins.empty())
+      warn("skins: " + std::to_string(model_.skins.size()) + " ignored (meshes render as their vertices are stored)");
+    if (!model_.animations.empty())
+      warn("animations: " + std::to_string(model_.animations.size()) + " ignored (the scene renders as its nodes are posed)");
+    size_t morphed = 0;
+    for (const auto& mesh : model_.meshes)
+      for (const auto& prim : mesh.primitives) morphed += !prim.targets.empty();
+    if (morphed) warn("morph targets: " + std::to_string(morphed) + " primitive(s) with targets; the base shape is rendered");
+  }
+
+  // A feature material `index` uses and photonlab ignores or approximates: collected, then said
+  // once per feature (the first material, and how many more), so that a file with a hundred
+  // materials gives one line, not a hundred.
+  void ignoredInMaterial(size_t index, const std::string& what) {
+    auto it = ignored_.find(what);
+    if (it == ignored_.end()) {
+      std::string label = index == size_t(-1) ? std::string("default material") : "materials[" + std::to_string(index) + "]";
+      if (index != size_t(-1) && !model_.materials[index].name.empty()) label += " '" + model_.materials[index].name + "'";
+      ignoredOrder_.push_back(what);
+      ignored_[what] = {label, 1};
+    } else {
+      ++it->second.second;
+    }
+  }
+
   void loadMaterials() {
+    warnIgnored();
     for (size_t i = 0; i < model_.materials.size(); ++i) scene_->addMaterial(material(model_.materials[i], i));
     // glTF's default material, for primitives without one.
     tinygltf::Material fallback;
     fallback.name = "default";
     defaultMaterial_ = scene_->addMaterial(material(fallback, size_t(-1)));
+    for (const std::string& what : ignoredOrder_) {
+      const auto& [label, count] = ignored_[what];
+      warn(label + (count > 1 ? " (and " + std::to_string(count - 1) + " more)" : "") + ": " + what);
+    }
   }
 
   Material material(const tinygltf::Material& m, size_t index) {
@@ -375,12 +434,12 @@ class Loader {
       baseColor = Spectrum(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
     checkRange(el + ".baseColorFactor", baseColor, 0.0f, 1.0f);
     if (pbr.baseColorTexture.index >= 0 && pbr.baseColorTexture.texCoord != 0)
-      warn(el + ": baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
+      ignoredInMaterial(index, "baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
     ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"));
     float metallic = float(pbr.metallicFactor), roughness = float(pbr.roughnessFactor);
     if (!(metallic >= 0 && metallic <= 1)) fail(el + ".metallicFactor", "must be in [0, 1]");
     if (!(roughness >= 0 && roughness <= 1)) fail(el + ".roughnessFactor", "must be in [0, 1]");
-    if (pbr.metallicRoughnessTexture.index >= 0) warn(el + ": metallicRoughnessTexture is ignored (factors are used)");
+    if (pbr.metallicRoughnessTexture.index >= 0) ignoredInMaterial(index, "metallicRoughnessTexture is ignored (factors are used)");
 
     // Emission: emissiveFactor × KHR_materials_emissive_strength, radiance in W/(m²·sr).
     Spectrum emissive(0.0f);
@@ -390,7 +449,7 @@ class Loader {
     if (auto* ext = extension(m.extensions, "KHR_materials_emissive_strength")) getNumber(*ext, "emissiveStrength", &strength);
     out.emission = emissive * float(strength);
     checkRange(el + ".emission", out.emission, 0.0f, 1e30f);
-    if (m.emissiveTexture.index >= 0) warn(el + ": emissiveTexture is ignored (emissiveFactor is used)");
+    if (m.emissiveTexture.index >= 0) ignoredInMaterial(index, "emissiveTexture is ignored (emissiveFactor is used)");
 
     double transmission = 0.0, thickness = 0.0, ior = 1.5;
     if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) getNumber(*ext, "transmissionFactor", &transmission);
@@ -425,8 +484,8 @@ class Loader {
     } else if (metallic == 1.0f) {
       out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);
     } else {
-      if (transmission > 0) warn(el + ": KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered as Lambertian");
-      if (metallic > 0) warn(el + ": metallicFactor " + std::to_string(metallic) + " between 0 and 1 is rendered as Lambertian");
+      if (transmission > 0) ignoredInMaterial(index, "KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered as Lambertian");
+      if (metallic > 0) ignoredInMaterial(index, "metallicFactor between 0 and 1 is rendered as Lambertian");
       out.bsdf = std::make_unique<Lambertian>(base);
     }
     return out;
@@ -657,6 +716,8 @@ class Loader {
   std::string path_;
   std::vector<std::string>* warnings_;
   GltfLoadOptions options_;
+  std::map<std::string, std::pair<std::string, size_t>> ignored_;  // feature: first material, count
+  std::vector<std::string> ignoredOrder_;
   const unsigned char* bytes_ = nullptr;
   size_t size_ = 0;
   tinygltf::Model model_;

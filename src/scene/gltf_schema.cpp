@@ -4,6 +4,9 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <filesystem>
+
 namespace pl {
 namespace {
 
@@ -282,6 +285,64 @@ std::string checkGltfTypes(const std::string& text) {
     checkDocument(doc);
   } catch (const TypeError& e) {
     return e.message;
+  }
+  return "";
+}
+
+const std::vector<std::string>& supportedGltfExtensions() {
+  static const std::vector<std::string> names = {"KHR_lights_punctual",       "KHR_materials_emissive_strength",
+                                                 "KHR_materials_transmission", "KHR_materials_volume",
+                                                 "KHR_materials_ior",          "KHR_materials_dispersion"};
+  return names;
+}
+
+namespace {
+
+// RFC 3986 percent-decoding ("my%20model.bin" names "my model.bin"); a malformed escape stays.
+std::string percentDecoded(const std::string& uri) {
+  std::string out;
+  auto hex = [](char c) { return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1; };
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+      out += char(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string checkGltfRequirements(const std::string& text, const std::string& directory) {
+  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded() || !doc.is_object()) return "";  // the glTF parser reports it
+  const auto& supported = supportedGltfExtensions();
+  if (doc.contains("extensionsRequired") && doc["extensionsRequired"].is_array())
+    for (size_t i = 0; i < doc["extensionsRequired"].size(); ++i) {
+      const json& name = doc["extensionsRequired"][i];
+      if (!name.is_string()) continue;
+      const std::string n = name.get<std::string>();
+      if (std::find(supported.begin(), supported.end(), n) != supported.end()) continue;
+      std::string list;
+      for (const auto& s : supported) list += (list.empty() ? "" : ", ") + s;
+      return "extensionsRequired[" + std::to_string(i) + "]: " + n +
+             " is required by the file and photonlab does not implement it (it reads " + list + ")";
+    }
+  if (directory.empty()) return "";
+  for (const char* kind : {"buffers", "images"}) {
+    if (!doc.contains(kind) || !doc[kind].is_array()) continue;
+    for (size_t i = 0; i < doc[kind].size(); ++i) {
+      const json& item = doc[kind][i];
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      const std::string uri = item["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0) continue;
+      const std::filesystem::path file = std::filesystem::path(directory) / percentDecoded(uri);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(file, ec))
+        return std::string(kind) + "[" + std::to_string(i) + "].uri: file not found: " + file.string();
+    }
   }
   return "";
 }
