@@ -352,6 +352,96 @@ TEST_CASE("loader errors: a value of the wrong JSON type names the element - .gl
   CHECK_NOTHROW(loadGltf(ok.write("types-ok.gltf")));
 }
 
+namespace {
+
+// A PNG of one row, written the plainest valid way (one stored deflate block): `samples` are the
+// row's samples in order, `bits` 8 or 16 (big-endian, as PNG stores them), colour type 0 (grey),
+// 2 (RGB), 4 (grey + alpha) or 6 (RGBA).
+std::vector<uint8_t> pngRow(int width, int colorType, int bits, const std::vector<uint16_t>& samples) {
+  auto crc = [](const std::vector<uint8_t>& d, size_t from) {
+    uint32_t c = 0xFFFFFFFFu;
+    for (size_t i = from; i < d.size(); ++i) {
+      c ^= d[i];
+      for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1)));
+    }
+    return ~c;
+  };
+  auto be32 = [](std::vector<uint8_t>& d, uint32_t v) {
+    for (int i = 3; i >= 0; --i) d.push_back(uint8_t(v >> (8 * i)));
+  };
+  std::vector<uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  auto chunk = [&](const char* type, const std::vector<uint8_t>& data) {
+    be32(out, uint32_t(data.size()));
+    const size_t start = out.size();
+    out.insert(out.end(), type, type + 4);
+    out.insert(out.end(), data.begin(), data.end());
+    be32(out, crc(out, start));
+  };
+  std::vector<uint8_t> ihdr;
+  be32(ihdr, uint32_t(width));
+  be32(ihdr, 1);
+  ihdr.insert(ihdr.end(), {uint8_t(bits), uint8_t(colorType), 0, 0, 0});
+  chunk("IHDR", ihdr);
+  std::vector<uint8_t> raw = {0};  // filter type 0 for the row
+  for (uint16_t v : samples) {
+    if (bits == 16) raw.push_back(uint8_t(v >> 8));
+    raw.push_back(uint8_t(v & 0xFF));
+  }
+  std::vector<uint8_t> z = {0x78, 0x01, 0x01, uint8_t(raw.size() & 0xFF), uint8_t(raw.size() >> 8),
+                            uint8_t(~raw.size() & 0xFF), uint8_t((~raw.size() >> 8) & 0xFF)};
+  z.insert(z.end(), raw.begin(), raw.end());
+  uint32_t a = 1, b = 0;  // Adler-32 of the raw data
+  for (uint8_t v : raw) a = (a + v) % 65521, b = (b + a) % 65521;
+  be32(z, b << 16 | a);
+  chunk("IDAT", z);
+  chunk("IEND", {});
+  return out;
+}
+
+// The fixture's floor with a 2×1 base-colour texture (`png`) spread across it, u = (x + 1)/2.
+std::unique_ptr<Scene> floorTextured(const std::vector<uint8_t>& png, const std::string& name) {
+  GltfFixture f;
+  float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
+  f.bin.resize(104);
+  std::memcpy(f.bin.data() + 72, uv, 32);
+  f.doc["buffers"][0]["byteLength"] = 104;
+  f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
+  f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+  f.doc["images"] = {{{"uri", "data:image/png;base64," + base64(png)}}};
+  f.doc["textures"] = {{{"source", 0}}};
+  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+  return loadGltf(f.write(name));
+}
+
+Spectrum albedoAt(const Scene& scene, float x) {
+  SurfaceHit hit;
+  REQUIRE(scene.intersect(Ray{Vec3(x, 1, 0), Vec3(0, -1, 0)}, &hit));
+  return hit.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), hit.uv) * kPi;
+}
+
+}  // namespace
+
+TEST_CASE("loader: grey-scale and 16-bit PNG textures decode to the sRGB values they store") {
+  // sRGB⁻¹ by hand: 188/255 (and 48316/65535, the same fraction) → ((0.73725 + 0.055)/1.055)^2.4
+  // = 0.50288; 1000/65535 = 0.015259 is on the linear segment: /12.92 = 0.0011810, where its
+  // high byte alone (3/255) would give 0.000910.
+  auto grey = floorTextured(pngRow(2, 0, 8, {188, 0}), "grey.gltf");
+  Spectrum g = albedoAt(*grey, -0.5f);
+  CHECK(g.r == Approx(0.50288).epsilon(1e-3));
+  CHECK(g.g == Approx(0.50288).epsilon(1e-3));
+  CHECK(g.b == Approx(0.50288).epsilon(1e-3));
+  CHECK(albedoAt(*grey, 0.5f).r == Approx(0.0f).margin(1e-7));
+  auto deep = floorTextured(pngRow(2, 2, 16, {48316, 1000, 65535, 0, 0, 0}), "rgb16.gltf");
+  Spectrum d = albedoAt(*deep, -0.5f);
+  CHECK(d.r == Approx(0.50288).epsilon(1e-3));
+  CHECK(d.g == Approx(0.0011810).epsilon(2e-3));
+  CHECK(d.b == Approx(1.0f));
+  auto greyAlpha = floorTextured(pngRow(2, 4, 16, {48316, 65535, 0, 65535}), "grey-alpha16.gltf");
+  CHECK(albedoAt(*greyAlpha, -0.5f).b == Approx(0.50288).epsilon(1e-3));
+}
+
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it; ignored features are one warning each") {
   GltfFixture d;
   d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};

@@ -356,15 +356,25 @@ class Loader {
     auto cached = images_.find(src);
     if (cached != images_.end()) return cached->second;
     const tinygltf::Image& im = model_.images[src];
-    if (im.width <= 0 || im.height <= 0 || im.component < 3 || im.bits != 8 ||
-        im.image.size() < size_t(im.width) * im.height * im.component)
-      fail("images[" + std::to_string(src) + "]", "unsupported or undecoded image (need 8-bit RGB or RGBA)");
+    // tinygltf hands over 8- or 16-bit samples (16-bit PNGs keep their depth), 1 to 4 per texel
+    // (it expands to RGBA unless asked not to); grey, with or without alpha, is every channel.
+    const int channels = im.component, bytes = im.bits / 8;
+    if (im.width <= 0 || im.height <= 0 || channels < 1 || channels > 4 || (im.bits != 8 && im.bits != 16) ||
+        im.image.size() < size_t(im.width) * im.height * channels * bytes)
+      fail("images[" + std::to_string(src) + "]", "unsupported or undecoded image (need 8- or 16-bit grey, RGB or RGBA)");
+    auto sample = [&](size_t texel, int c) {
+      const size_t k = (texel * channels + c) * bytes;
+      if (bytes == 1) return im.image[k] / 255.0f;
+      uint16_t v;  // in the machine's byte order, as stb_image returns it
+      std::memcpy(&v, &im.image[k], 2);
+      return v / 65535.0f;
+    };
     auto image = std::make_shared<Image>();
     image->width = im.width;
     image->height = im.height;
     image->texels.resize(size_t(im.width) * im.height);
     for (size_t i = 0; i < image->texels.size(); ++i)  // sRGB-encoded texels
-      for (int c = 0; c < 3; ++c) image->texels[i][c] = srgbDecode(im.image[i * im.component + c] / 255.0f);
+      for (int c = 0; c < 3; ++c) image->texels[i][c] = srgbDecode(sample(i, channels >= 3 ? c : 0));
     images_[src] = image;
     return image;
   }
