@@ -398,8 +398,9 @@ std::vector<uint8_t> pngRow(int width, int colorType, int bits, const std::vecto
   return out;
 }
 
-// The fixture's floor with a 2×1 base-colour texture (`png`) spread across it, u = (x + 1)/2.
-std::unique_ptr<Scene> floorTextured(const std::vector<uint8_t>& png, const std::string& name) {
+// The fixture's floor with a 2×1 base-colour texture (the image at `dataUri`) spread across it,
+// u = (x + 1)/2, v = (z + 1)/2, times `factor`.
+std::unique_ptr<Scene> floorTextured(const std::string& dataUri, const std::vector<double>& factor, const std::string& name) {
   GltfFixture f;
   float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
   f.bin.resize(104);
@@ -408,13 +409,17 @@ std::unique_ptr<Scene> floorTextured(const std::vector<uint8_t>& png, const std:
   f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
   f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
   f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
-  f.doc["images"] = {{{"uri", "data:image/png;base64," + base64(png)}}};
+  f.doc["images"] = {{{"uri", dataUri}}};
   f.doc["textures"] = {{{"source", 0}}};
   f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = factor;
   return loadGltf(f.write(name));
 }
+std::unique_ptr<Scene> floorTextured(const std::vector<uint8_t>& png, const std::string& name) {
+  return floorTextured("data:image/png;base64," + base64(png), {1.0, 1.0, 1.0, 1.0}, name);
+}
 
+// The albedo at the floor point (x, 0, 0): u = 0.25 and 0.75 at x = ∓0.5 are the texel centres.
 Spectrum albedoAt(const Scene& scene, float x) {
   SurfaceHit hit;
   REQUIRE(scene.intersect(Ray{Vec3(x, 1, 0), Vec3(0, -1, 0)}, &hit));
@@ -478,24 +483,8 @@ TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - 
                               40, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0, 0, 1, 0, 24, 0, 0, 0, 0, 0, 8, 0, 0, 0,
                               0x13, 0x0B, 0, 0, 0x13, 0x0B, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,  // DIB header
                               0, 0, 255, 188, 0, 0, 0, 0};  // BGR BGR + padding to 4 bytes
-  GltfFixture f;
-  float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};  // u = (x + 1)/2, v = (z + 1)/2
-  f.bin.resize(104);
-  std::memcpy(f.bin.data() + 72, uv, 32);
-  f.doc["buffers"][0]["byteLength"] = 104;
-  f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
-  f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
-  f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
-  f.doc["images"] = {{{"uri", "data:image/bmp;base64," + base64(bmp)}}};
-  f.doc["textures"] = {{{"source", 0}}};
-  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-  f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 0.5, 1.0};
-  auto scene = loadGltf(f.write("texture.gltf"));
-  auto albedoAt = [&](float x) {
-    SurfaceHit hit;
-    REQUIRE(scene->intersect(Ray{Vec3(x, 1, 0), Vec3(0, -1, 0)}, &hit));
-    return hit.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), hit.uv) * kPi;
-  };
+  auto scene = floorTextured("data:image/bmp;base64," + base64(bmp), {1.0, 1.0, 0.5, 1.0}, "texture.gltf");
+  auto albedoAt = [&](float x) { return ::albedoAt(*scene, x); };
   Spectrum left = albedoAt(-0.5f), right = albedoAt(0.5f);  // u = 0.25 and 0.75: texel centres
   CHECK(left.r == Approx(1.0f));
   CHECK(left.b == Approx(0.0f).margin(1e-6));

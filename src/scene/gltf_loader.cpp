@@ -154,19 +154,16 @@ class Loader {
 
   void parse() {
     // tinygltf ignores a property of the wrong type, or reports it without saying where;
-    // photonlab refuses it first, naming the element (gltf_schema.h).
-    const std::string text = jsonText();
-    std::string typeError = checkGltfTypes(text);
-    if (!typeError.empty()) throw Error(path_ + ": " + typeError);
-    // Required extensions and external files, before tinygltf (which calls a missing buffer
-    // "json" and a missing image "unsupported"); a load from memory has no folder to look in.
+    // photonlab refuses a property of the wrong type first, naming the element (gltf_schema.h),
+    // then a required extension it lacks and a missing external file (which tinygltf calls
+    // "json" and "unsupported image"); a load from memory has no folder to look in.
     std::string directory;
     if (!bytes_) {
       directory = std::filesystem::path(path_).parent_path().string();
       if (directory.empty()) directory = ".";
     }
-    std::string missing = checkGltfRequirements(text, directory);
-    if (!missing.empty()) throw Error(path_ + ": " + missing);
+    const std::string problem = checkGltfDocument(jsonText(), directory);
+    if (!problem.empty()) throw Error(path_ + ": " + problem);
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(loadImageChecked, nullptr);
     std::string err, warn;

@@ -278,16 +278,6 @@ void checkDocument(const json& doc) {
 
 }  // namespace
 
-std::string checkGltfTypes(const std::string& text) {
-  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded()) return "";  // not JSON: the glTF parser says so, with its own message
-  try {
-    checkDocument(doc);
-  } catch (const TypeError& e) {
-    return e.message;
-  }
-  return "";
-}
 
 const std::vector<std::string>& supportedGltfExtensions() {
   static const std::vector<std::string> names = {"KHR_lights_punctual",       "KHR_materials_emissive_strength",
@@ -313,11 +303,8 @@ std::string percentDecoded(const std::string& uri) {
   return out;
 }
 
-}  // namespace
-
-std::string checkGltfRequirements(const std::string& text, const std::string& directory) {
-  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded() || !doc.is_object()) return "";  // the glTF parser reports it
+std::string checkRequirements(const json& doc, const std::string& directory) {
+  if (!doc.is_object()) return "";  // the glTF parser reports it
   const auto& supported = supportedGltfExtensions();
   if (doc.contains("extensionsRequired") && doc["extensionsRequired"].is_array())
     for (size_t i = 0; i < doc["extensionsRequired"].size(); ++i) {
@@ -345,6 +332,19 @@ std::string checkGltfRequirements(const std::string& text, const std::string& di
     }
   }
   return "";
+}
+
+}  // namespace
+
+std::string checkGltfDocument(const std::string& text, const std::string& directory) {
+  json doc = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (doc.is_discarded()) return "";  // not JSON: the glTF parser says so, with its own message
+  try {
+    checkDocument(doc);
+  } catch (const TypeError& e) {
+    return e.message;
+  }
+  return checkRequirements(doc, directory);
 }
 
 }  // namespace pl

@@ -11,21 +11,19 @@
 
 namespace pl {
 
-// `json` is the document's JSON text (a .gltf file, or a .glb's JSON chunk). Returns "" when
-// every checked property has its type, else "ELEMENT: what is wrong" for the first that does
-// not. Text that is not JSON passes (the glTF parser reports it).
-std::string checkGltfTypes(const std::string& json);
-
 // The glTF extensions photonlab implements (the loader reads them); any other is ignored, with
 // a warning, unless the file requires it.
 const std::vector<std::string>& supportedGltfExtensions();
 
-// What a document needs that photonlab must have before tinygltf reads it, "" when all is there,
-// else "ELEMENT: what is wrong" for the first miss:
-//   - every entry of extensionsRequired is supported (Draco or meshopt compressed data, say,
-//     cannot be read without the extension: a one-line error naming it, not a broken mesh);
-//   - every buffer and image a URI points to outside the file exists (`directory`: where
+// The document checked before tinygltf reads it, its JSON parsed once. `json` is the document's
+// JSON text (a .gltf file, or a .glb's JSON chunk). Returns "" when all is well, else
+// "ELEMENT: what is wrong" for the first problem of:
+//   - a checked property without its schema type;
+//   - an entry of extensionsRequired photonlab does not implement (Draco or meshopt compressed
+//     data, say, cannot be read without it: a one-line error naming it, not a broken mesh);
+//   - a buffer or image whose URI points to a file that does not exist (`directory`: where
 //     relative URIs resolve, percent-decoded; empty for a load from memory, which has none).
-std::string checkGltfRequirements(const std::string& json, const std::string& directory);
+// Text that is not JSON passes (the glTF parser reports it).
+std::string checkGltfDocument(const std::string& json, const std::string& directory);
 
 }  // namespace pl
