@@ -409,10 +409,27 @@ def door():
     return g
 
 
+def sky():
+    """Three spheres on a floor under a sky and nothing else (the environment light): diffuse,
+    mirror and glass, radius 0.5, on a 12 m square floor. The sky is a constant blue-white
+    (extras.photonlab.environment); --env replaces it, with a map for instance."""
+    g = Gltf()
+    floor = g.material("floor", (0.5, 0.5, 0.5))
+    g.mesh("floor", *quads([[[-6, 0, -6], [-6, 0, 6], [6, 0, 6], [6, 0, -6]]]), floor)
+    for name, x, m in (("diffuse sphere", -1.2, g.material("diffuse", (0.8, 0.3, 0.2))),
+                       ("mirror sphere", 0.0, g.material("mirror", (0.95, 0.95, 0.95), metallic=1.0, roughness=0.0)),
+                       ("glass sphere", 1.2, g.material("glass", (1, 1, 1), glass_ior=1.5))):
+        p, n, i = sphere([x, 0.5, 0.0], 0.5)
+        g.mesh(name, p, i, m, normals=n)
+    g.doc["extras"] = {"photonlab": {"environment": {"radiance": [0.8, 0.9, 1.0]}}}
+    g.camera([0.0, 1.6, 4.2], [0.0, 0.45, 0.0], 0.6, aspect=3 / 2)
+    return g
+
+
 SCENES = {"cornell-box": cornell_box, "cornell-spheres": cornell_spheres,
           "glass-caustic": glass_caustic, "furnace": furnace, "prism": prism,
           "smallvcm-sun": lambda: smallvcm_box("sun"), "smallvcm-point": lambda: smallvcm_box("point"),
-          "door": door}
+          "door": door, "sky": sky}
 
 if __name__ == "__main__":
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")

@@ -139,10 +139,12 @@ TEST_CASE("cli: a file without a camera renders from the automatic view - info d
   REQUIRE(i.code == 0);
   CHECK_THAT(i.out, Contains("cameras: 1 in the file"));
   CHECK_THAT(i.out, Contains("0: nodes[1], cameras[0]"));
-  CHECK_THAT(i.out, Contains("lights: 0 (a render needs one"));
-  Result e = run("render " + g.write("cli-nolight.gltf") + " -o " + dir + "/nolight.exr");
-  CHECK(e.code != 0);
-  CHECK_THAT(e.err, Contains("no light"));
+  CHECK_THAT(i.out, Contains("lights: 1"));
+  CHECK_THAT(i.out, Contains("environment: default environment: constant 1, 1, 1 W/(m2 sr)"));
+  Result e = run("render " + g.write("cli-nolight.gltf") + " -o " + dir + "/nolight.exr --spp 1 --width 8");
+  INFO(e.err);
+  CHECK(e.code == 0);
+  CHECK_THAT(e.err, Contains("no light") && Contains("default environment"));
 }
 
 TEST_CASE("cli: info reports the lights' power in watts") {
@@ -243,4 +245,31 @@ TEST_CASE("cli: --spectral renders with every integrator family and says so in t
     Result m = run("info " + out);
     CHECK_THAT(m.out, Contains("\"spectral\": 1"));
   }
+}
+
+TEST_CASE("cli: --env lights a scene - a radiance or a map - and its mistakes are one-line errors") {
+  GltfFixture g;
+  g.doc["scenes"][0]["nodes"] = {0, 1};  // floor and camera, no light
+  std::string scene = g.write("cli-env.gltf"), dir = GltfFixture::dir(), out = dir + "/env.exr";
+  Result r = run("render " + scene + " -o " + out + " --env 0.2,0.4,0.6 --width 8 --spp 2");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.err.find("default environment") == std::string::npos);  // --env replaces the default
+  Result i = run("info " + out);
+  CHECK_THAT(i.out, Contains("\"environment\": \"constant 0.2, 0.4, 0.6 W/(m2 sr)\""));
+  // Any image photonlab reads serves as a map: this render, say.
+  Result m = run("render " + scene + " -o " + dir + "/env-map.exr --env " + out + " --env-rotate 90 --env-scale 3 --width 8 --spp 2");
+  INFO(m.err);
+  REQUIRE(m.code == 0);
+  CHECK_THAT(run("info " + dir + "/env-map.exr").out, Contains("\"environment\": \"map " + out + ", rotated 90 deg, scale 3\""));
+  const std::string never = dir + "/never-env.exr";
+  expectCleanFailure("render " + scene + " -o " + never + " --env -1", never, "--env: radiance must be finite and >= 0");
+  expectCleanFailure("render " + scene + " -o " + never + " --env 1,2", never, "--env: expected R,G,B");
+  expectCleanFailure("render " + scene + " -o " + never + " --env " + dir + "/no-sky.exr", never, "--env: file not found: " + dir + "/no-sky.exr");
+  expectCleanFailure("render " + scene + " -o " + never + " --env-rotate 30", never, "--env-rotate: needs --env");
+  expectCleanFailure("render " + scene + " -o " + never + " --env 1 --env-scale -1", never, "--env-scale");
+  expectCleanFailure("render " + scene + " -o " + never + " --env 1 --integrator bdpt", never, "environment light is not supported");
+  // A file that is not an image.
+  const std::string text = GltfFixture::writeText("not-a-sky.exr", "hello");
+  expectCleanFailure("render " + scene + " -o " + never + " --env " + text, never, "not-a-sky.exr");
 }

@@ -165,6 +165,11 @@ TEST_CASE("experiment config: mistakes name the file - line and key") {
       {"exposure = \"+1\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: exposure: must be a number"},
       {"baseline = \"PT\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: baseline: no run is labelled 'PT'"},
       {"target_relmse = 0\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: target_relmse: must be in (0"},
+      {"env = -1\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: must be in [0"},
+      {"env = \"1,2\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: expected R,G,B"},
+      {"env = [1, \"x\", 1]\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: must be a number"},
+      {"env_rotate = 30\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env_rotate: needs env"},
+      {"env = 1\nenv_scale = -2\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":2: env_scale: must be in [0"},
   };
   for (auto& c : cases) {
     std::string e = f.error(c.text);
@@ -203,6 +208,28 @@ TEST_CASE("experiment config: the fingerprint changes with what is rendered - no
   CHECK(settingsFingerprint(again.runs[0].settings) == settingsFingerprint(alpha.runs[0].settings));
   CHECK(settingsFingerprint(again.reference.settings) == settingsFingerprint(alpha.reference.settings));
   CHECK(again.runs[0].seeds == alpha.runs[0].seeds);
+}
+
+TEST_CASE("experiment config: env - a sky for the reference and every run, in the fingerprint and the resolved config") {
+  ConfigFixture f;
+  auto none = f.parse(kHead + "[[run]]\nintegrator = \"path\"\n");
+  auto grey = f.parse("env = 0.5\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
+  auto rgb = f.parse("env = [0.2, 0.4, 0.6]\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
+  auto map = f.parse("env = \"skies/noon.exr\"\nenv_rotate = 90\nenv_scale = 2\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
+  CHECK_FALSE(none.runs[0].settings.image.environment.enabled);
+  CHECK(grey.runs[0].settings.image.environment.radiance == Spectrum(0.5f));
+  CHECK(grey.reference.settings.image.environment.radiance == Spectrum(0.5f));
+  CHECK(rgb.runs[0].settings.image.environment.radiance == Spectrum(0.2f, 0.4f, 0.6f));
+  const EnvironmentSpec& m = map.runs[0].settings.image.environment;
+  CHECK(m.map == (fs::path(f.dir) / "skies/noon.exr").lexically_normal().string());  // relative to the config
+  CHECK(m.rotation == 90.0f);
+  CHECK(m.scale == 2.0f);
+  CHECK(settingsFingerprint(none.runs[0].settings) != settingsFingerprint(grey.runs[0].settings));
+  CHECK(settingsFingerprint(grey.runs[0].settings) != settingsFingerprint(rgb.runs[0].settings));
+  for (auto* c : {&rgb, &map}) {
+    auto again = f.parse(resolvedConfigToml(*c, {}));
+    CHECK(settingsFingerprint(again.runs[0].settings) == settingsFingerprint(c->runs[0].settings));
+  }
 }
 
 TEST_CASE("experiment config: the shipped experiments parse") {

@@ -269,21 +269,27 @@ TEST_CASE("loader: every camera a file places is listed, the first renders, and 
   }
 }
 
-TEST_CASE("loader: a file without lights loads for inspection (requireLights = false), and is an error to render") {
+TEST_CASE("loader: a file without lights is lit by the default environment, a uniform sky of radiance 1, with a warning") {
   GltfFixture g;
   g.doc["scenes"][0]["nodes"] = {0, 1};
-  GltfLoadOptions o;
-  o.requireLights = false;
-  auto scene = loadGltf(g.write("nolight.gltf"), nullptr, o);
-  CHECK(scene->lights().empty());
+  std::vector<std::string> warnings;
+  auto scene = loadGltf(g.write("nolight.gltf"), &warnings);
+  REQUIRE(scene->lights().size() == 1);
+  REQUIRE(scene->environment() != nullptr);
   CHECK(scene->triangleCount() == 2);
-  CHECK_THAT(loadError(g.write("nolight.gltf")), Contains("no light"));
+  // ∫ L dω over the sphere = 4π·1, the same in every channel.
+  CHECK(scene->environment()->integral().r == Approx(4 * kPi).epsilon(1e-5));
+  CHECK(scene->environment()->integral().b == Approx(4 * kPi).epsilon(1e-5));
+  CHECK_THAT(scene->environmentSource, Contains("default environment"));
+  int said = 0;
+  for (auto& w : warnings) said += w.find("no light") != std::string::npos && w.find("default environment") != std::string::npos;
+  CHECK(said == 1);
+  // A file with a light gets no sky.
+  GltfFixture lit;
+  CHECK(loadGltf(lit.write("lit.gltf"))->environment() == nullptr);
 }
 
-TEST_CASE("loader errors: no light - bad light and material values") {
-  GltfFixture g;
-  g.doc["scenes"][0]["nodes"] = {0, 1};
-  CHECK_THAT(loadError(g.write("nolight.gltf")), Contains("no light"));
+TEST_CASE("loader errors: bad light and material values") {
   GltfFixture h;
   h.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"power", -5}}}};
   CHECK_THAT(loadError(h.write("negpower.gltf")), Contains("power"));

@@ -84,6 +84,8 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   for (auto& o : outputs) checkOutputPath(o);
   GltfLoadOptions load;
   load.camera = s.image.camera;
+  load.environment = s.image.environment;
+  load.readImage = readEnvironmentMap;
   if (s.image.width > 0 && s.image.height > 0) load.aspect = float(s.image.width) / float(s.image.height);
   auto scene = loadScene(scenePath, load);
   // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
@@ -195,7 +197,7 @@ int cmdInfo(const std::string& scenePath) {
   if (ext == ".exr" || ext == ".png") return cmdImageInfo(scenePath);
   // Any loadable file: one without lights is described too (a render of it would stop at them).
   GltfLoadOptions load;
-  load.requireLights = false;
+  load.readImage = readEnvironmentMap;
   auto scene = loadScene(scenePath, load);
   const Bounds& b = scene->bounds();
   std::printf("scene: %s\n", scenePath.c_str());
@@ -223,10 +225,16 @@ int cmdInfo(const std::string& scenePath) {
     e.first++;
     e.second += l->power();
   }
-  std::printf("lights: %zu%s\n", scene->lights().size(),
-              scene->lights().empty() ? " (a render needs one: KHR_lights_punctual lights or emissive materials)" : "");
+  std::printf("lights: %zu\n", scene->lights().size());
   for (auto& [kind, e] : byKind)
     std::printf("  %-12s x%-6d power [%g, %g, %g] W\n", kind.c_str(), e.first, e.second.r, e.second.g, e.second.b);
+  if (const EnvironmentLight* env = scene->environment())
+    std::printf("environment: %s (%dx%d texels), integral of L over the sphere [%g, %g, %g] W/m2, power through the "
+                "bounding disc [%g, %g, %g] W\n",
+                scene->environmentSource.c_str(), env->map().width, env->map().height, env->integral().r,
+                env->integral().g, env->integral().b, env->power().r, env->power().g, env->power().b);
+  else
+    std::printf("environment: none (--env adds one)\n");
   Spectrum total = scene->totalPower();
   std::printf("total power: [%g, %g, %g] W\n", total.r, total.g, total.b);
   return 0;
@@ -413,6 +421,13 @@ int main(int argc, char** argv) {
                      "Which of the file's cameras renders, as photonlab info numbers them (default the first; a file "
                      "without one: an automatic three-quarter view)")
       ->check(CLI::NonNegativeNumber);
+  std::string envText;
+  float envRotate = 0.0f, envScale = 1.0f;
+  render->add_option("--env", envText,
+                     "Environment light: R,G,B (or one number) radiance in W/(m2 sr), or an equirectangular map "
+                     "(EXR, HDR, PFM; PNG/JPEG are sRGB-decoded); replaces the file's");
+  auto* envRotateOpt = render->add_option("--env-rotate", envRotate, "Degrees the --env map turns about +Y");
+  auto* envScaleOpt = render->add_option("--env-scale", envScale, "Factor on the --env radiance");
   auto* timeOpt = render->add_option("--time", options.timeLimit,
                                      "Time budget in seconds: the render stops when it is spent, wherever it is");
   int64_t seed = 1;
@@ -553,6 +568,15 @@ int main(int argc, char** argv) {
       if (options.threads < 0) throw Error("--threads: must be ≥ 0");
       if (seed < 0) throw Error("--seed: must be 0 or more, got " + std::to_string(seed));
       options.seed = uint64_t(seed);
+      if (!envText.empty()) {
+        options.environment = parseEnvironment(envText, "--env");
+        options.environment.rotation = envRotate;
+        options.environment.scale = envScale;
+        if (!std::isfinite(envRotate)) throw Error("--env-rotate: must be a finite angle in degrees");
+        if (!(envScale >= 0) || !std::isfinite(envScale)) throw Error("--env-scale: must be a finite number >= 0");
+      } else if (*envRotateOpt || *envScaleOpt) {
+        throw Error(std::string(*envRotateOpt ? "--env-rotate" : "--env-scale") + ": needs --env");
+      }
       if (!findIntegrator(integratorName))
         throw Error("--integrator: unknown integrator '" + integratorName + "' (" + integratorList() + ")");
       RunSettings settings = RunSettings::of(integratorName);

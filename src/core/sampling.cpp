@@ -106,4 +106,40 @@ size_t AliasTable::sample(float u, float* pmfOut) const {
   return k;
 }
 
+PiecewiseConstant1D::PiecewiseConstant1D(const std::vector<float>& weights) {
+  const size_t n = weights.size();
+  weights_.resize(n);
+  cdf_.assign(n + 1, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    weights_[i] = std::max(0.0, double(weights[i]));  // also maps NaN to 0
+    cdf_[i + 1] = cdf_[i] + weights_[i];
+  }
+  total_ = cdf_[n];
+  if (!(total_ > 0)) {
+    total_ = 0.0;
+    return;
+  }
+  for (double& c : cdf_) c /= total_;
+  cdf_[n] = 1.0;
+}
+
+size_t PiecewiseConstant1D::sample(float u, float* offset, float* pmf) const {
+  // The last cell whose cdf is ≤ u, skipping zero-weight cells (their cdf equals the next's).
+  const size_t n = weights_.size();
+  if (n == 0 || !(total_ > 0)) {
+    if (offset) *offset = 0.0f;
+    if (pmf) *pmf = 0.0f;
+    return 0;
+  }
+  size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), double(u)) - cdf_.begin());
+  i = std::min(std::max<size_t>(i, 1), n) - 1;
+  while (weights_[i] <= 0 && i + 1 < n) ++i;  // u exactly on a boundary before empty cells
+  while (weights_[i] <= 0 && i > 0) --i;
+  double width = cdf_[i + 1] - cdf_[i];
+  double t = width > 0 ? (double(u) - cdf_[i]) / width : 0.5;
+  if (offset) *offset = float(std::min(std::max(t, 0.0), 0.99999994));
+  if (pmf) *pmf = float(weights_[i] / total_);
+  return i;
+}
+
 }  // namespace pl

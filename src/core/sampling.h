@@ -76,4 +76,22 @@ class AliasTable {
   double total_ = 0.0;
 };
 
+// Piecewise-constant density on [0, 1) with n equal cells of weights w_i: p(x) = n·w_i/Σw in
+// cell i. sample() inverts the cdf continuously: it returns the cell and the position within it
+// (uniform there), so that a 2D distribution built of these keeps its samples stratified.
+class PiecewiseConstant1D {
+ public:
+  PiecewiseConstant1D() = default;
+  explicit PiecewiseConstant1D(const std::vector<float>& weights);
+  // Cell i with probability w_i/Σw (never a zero-weight cell), and u's position in it, in [0, 1).
+  size_t sample(float u, float* offset, float* pmf = nullptr) const;
+  float pmf(size_t i) const { return total_ > 0 ? float(weights_[i] / total_) : 0.0f; }
+  size_t size() const { return weights_.size(); }
+  double total() const { return total_; }
+
+ private:
+  std::vector<double> weights_, cdf_;  // cdf_: n + 1 values, 0 ... 1
+  double total_ = 0.0;
+};
+
 }  // namespace pl

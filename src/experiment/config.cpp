@@ -211,6 +211,8 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
   const toml::node* baselineNode = nullptr;
   const toml::node* runNode = nullptr;
   bool hasSeed = false;
+  EnvironmentSpec environment;
+  const toml::node *envRotate = nullptr, *envScale = nullptr;
   for (auto&& [k, node] : root) {
     const std::string key(k.str());
     if (key == "name") {
@@ -257,14 +259,40 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       referenceNode = &node;
     } else if (key == "run") {
       runNode = &node;
+    } else if (key == "env") {
+      // As --env: a radiance (one number, or [r, g, b]) or a map file relative to this config.
+      try {
+        if (node.is_string()) {
+          environment = parseEnvironment(p.string(node, key), key);
+          if (!environment.map.empty()) environment.map = p.resolvePath(node, key);
+        } else if (const toml::array* a = node.as_array(); a && a->size() == 3) {
+          environment = parseEnvironment(formatNumber(p.number((*a)[0], key, 0, 1e30, true)) + "," +
+                                             formatNumber(p.number((*a)[1], key, 0, 1e30, true)) + "," +
+                                             formatNumber(p.number((*a)[2], key, 0, 1e30, true)),
+                                         key);
+        } else {
+          environment = parseEnvironment(formatNumber(p.number(node, key, 0, 1e30, true)), key);
+        }
+      } catch (const Error& e) {
+        if (std::string(e.what()).rfind(key + ":", 0) == 0) p.fail(&node, key, std::string(e.what()).substr(key.size() + 2));
+        throw;
+      }
+    } else if (key == "env_rotate") {
+      environment.rotation = float(p.number(node, key, -1e6, 1e6, true));
+      envRotate = &node;
+    } else if (key == "env_scale") {
+      environment.scale = float(p.number(node, key, 0, 1e30, true));
+      envScale = &node;
     } else if (key == "provenance") {
       // Written by `photonlab run` into experiment.toml, which can be run again as it is.
       if (!node.is_table()) p.fail(&node, key, "must be a table");
     } else {
-      p.fail(&node, key, "unknown key (known: name, description, scene, width, height, seed, seeds, threads, inset, "
-                         "exposure, tonemap, baseline, target_relmse, [reference], [[run]], [provenance])");
+      p.fail(&node, key, "unknown key (known: name, description, scene, env, env_rotate, env_scale, width, height, seed, "
+                         "seeds, threads, inset, exposure, tonemap, baseline, target_relmse, [reference], [[run]], [provenance])");
     }
   }
+  if (!environment.enabled && (envRotate || envScale))
+    p.fail(envRotate ? envRotate : envScale, envRotate ? "env_rotate" : "env_scale", "needs env");
   if (c.name.empty()) p.fail(1, "name", "missing (the results folder name)");
   if (c.scene.empty()) p.fail(1, "scene", "missing (a .gltf or .glb file, relative to this config)");
   if (c.width == 0) c.width = c.height == 0 ? 512 : 0;  // height alone: width from the aspect ratio
@@ -332,6 +360,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     s->image.width = c.width;
     s->image.height = c.height;
     s->image.threads = c.threads;
+    s->image.environment = environment;
   }
   return c;
 }
@@ -368,6 +397,13 @@ std::string resolvedConfigToml(const ExperimentConfig& c, const std::vector<std:
   root.insert("name", c.name);
   if (!c.description.empty()) root.insert("description", c.description);
   root.insert("scene", c.scene);
+  const EnvironmentSpec& env = c.runs.front().settings.image.environment;
+  if (env.enabled) {
+    if (env.map.empty()) root.insert("env", toml::array{env.radiance.r, env.radiance.g, env.radiance.b});
+    else root.insert("env", env.map);
+    root.insert("env_rotate", env.rotation);
+    root.insert("env_scale", env.scale);
+  }
   if (c.width > 0) root.insert("width", c.width);
   if (c.height > 0) root.insert("height", c.height);
   root.insert("threads", c.threads);
@@ -409,6 +445,7 @@ std::string settingsFingerprint(const RunSettings& s) {
   t.insert_or_assign("width", s.image.width);
   t.insert_or_assign("height", s.image.height);
   t.insert_or_assign("seed", int64_t(s.image.seed));
+  if (s.image.environment.enabled) t.insert_or_assign("environment", s.image.environment.describe());
   std::ostringstream out;
   out << t;
   return out.str();

@@ -52,6 +52,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   // Every declared parameter (unset ones as 0: e.g. radius 0, k nearest instead).
   for (const ParamSpec& p : s.params.specs()) m[p.metaKey()] = s.params.format(p);
   if (s.image.camera >= 0) m["camera"] = std::to_string(s.image.camera);
+  if (s.image.environment.enabled) m["environment"] = s.image.environment.describe();
   // Then what was done: the samples or passes reached (over the budget parameter, which only
   // said how many were asked for), photon paths traced, the gather radius reached.
   const std::string unit = s.budgetUnit();
@@ -226,7 +227,10 @@ class Experiment {
                     " has no such run and seed (--list-runs lists them)");
     }
     std::vector<std::string> warnings;
-    scene_ = loadGltf(c_.scene, &warnings);
+    GltfLoadOptions load;
+    load.environment = c_.runs.front().settings.image.environment;  // every run's and the reference's
+    load.readImage = readEnvironmentMap;
+    scene_ = loadGltf(c_.scene, &warnings, load);
     for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     setInterruptCooperative(true);  // from here on an interrupt keeps what is finished (README)
     resolveSizes();
@@ -411,7 +415,8 @@ class Experiment {
     }
     const RunSettings& s = c_.reference.settings;
     const std::string key = "photonlab reference cache v" + std::to_string(kReferenceCacheVersion) + "\n" +
-                            settingsFingerprint(s) + "\n" + sceneBytes(c_.scene);
+                            settingsFingerprint(s) + "\n" + sceneBytes(c_.scene) +
+                            (s.image.environment.map.empty() ? "" : "\n" + readFile(s.image.environment.map));
     fs::path cacheDir = o_.cache.empty() ? out_.parent_path() / ".reference-cache" : fs::path(o_.cache);
     if (cacheDir.empty()) cacheDir = ".reference-cache";
     fs::path cached = cacheDir / (fs::path(c_.scene).stem().string() + "-" + s.integrator + "-" + hex(fnv1a(key)) + ".exr");

@@ -455,6 +455,10 @@ class VertexConnectionMerging::Tracer {
 // so the image is the same whatever the thread count. An iteration the budget cuts short is
 // dropped whole.
 ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
+  // Light subpaths from the sky and their MIS densities (a direction and a point of the
+  // bounding disc) are not written yet.
+  if (scene.environment())
+    throw Error("bdpt/vcm/bpm: an environment light is not supported yet; use path, guided, photon, sppm or pppm");
   Budget budget(options.timeLimit);
   RenderOptions o = options;
   resolveResolution(scene.camera(), o);

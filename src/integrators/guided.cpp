@@ -48,7 +48,10 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
   int recorded = 0;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) break;
+    if (!scene.intersect(ray, &hit)) {  // the sky, weighted as an emission hit below
+      L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, scatterPdf);
+      break;
+    }
 
     // Emission found by sampling: MIS against the next-event estimate made at the previous
     // vertex. Both weights treat the direction as drawn by the BSDF alone (see below).

@@ -100,6 +100,20 @@ inline float powerHeuristic(float pdfA, float pdfB) {
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
                         Rng& rng, bool mis);
 
+// What a camera path sees when its ray leaves the scene: the environment's radiance along it
+// (0 without one). After a non-specular bounce it is weighted by the power heuristic against
+// next-event estimation, which samples the same sky from the previous vertex with density
+// pmf·p_env(ω), exactly as an emission hit is.
+inline Spectrum escapedRadiance(const Scene& scene, const Vec3& direction, const SampledWavelengths& lambda,
+                                bool specularBounce, float bsdfPdf) {
+  const EnvironmentLight* env = scene.environment();
+  if (!env) return Spectrum(0.0f);
+  Spectrum Le = env->radiance(direction, lambda);
+  if (specularBounce || isBlack(Le)) return Le;
+  float lightPdf = scene.lightDistribution().pmf(size_t(scene.environmentIndex())) * env->pdf(direction);
+  return Le * powerHeuristic(bsdfPdf, lightPdf);
+}
+
 // Russian roulette's survival probability for a camera path of throughput β:
 // q = min(1, max β · etaScale), etaScale = ∏ η² over the path's refractions (pbrt-v4). Radiance
 // entering glass is compressed by 1/η² and expanded again on the way out; the path is no less

@@ -32,7 +32,9 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
   if (isBlack(beta) || !isFinite(beta)) return;
 
   // The emission point itself, seen by the camera: C = Le |cosθy| We / (pmf pdfPos pdf_cam).
-  if (!light.isDelta()) {
+  // The environment's emission point is a point of its bounding disc, not of the sky: no light
+  // path shows the camera the sky itself (the path tracer's camera rays do).
+  if (!light.isDelta() && !light.isInfinite()) {
     CameraSample cs;
     if (scene.camera().sampleWi(e.ray.o, path.width, path.height, &cs)) {
       SurfaceHit y;

@@ -13,7 +13,10 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
   Vec3 previousPoint = ray.o;
   for (int depth = 0;; ++depth) {
     SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) break;
+    if (!scene.intersect(ray, &hit)) {
+      L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, bsdfPdf);
+      break;
+    }
 
     // Emission found by BSDF sampling; next-event estimation already counted the same light
     // from the previous vertex, so weight both by MIS.

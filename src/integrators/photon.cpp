@@ -102,9 +102,13 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
   Ray ray = cameraRay;
   for (int depth = 0; depth <= o_.maxDepth; ++depth) {
     SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) break;
+    // Only the camera ray or a chain of specular bounces gets here: emission, and the sky,
+    // count in full.
+    if (!scene.intersect(ray, &hit)) {
+      if (o_.aov.empty()) L += beta * escapedRadiance(scene, ray.d, lambda, true, 0.0f);
+      break;
+    }
     Vec3 wo = -ray.d;
-    // Only the camera ray or a chain of specular bounces gets here: emission counts in full.
     if (hit.light && o_.aov.empty()) L += beta * hit.light->L(wo, lambda);
     Vec3 woLocal = hit.shading.toLocal(wo);
     if (hit.bsdf->isDelta()) {

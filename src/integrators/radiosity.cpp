@@ -115,6 +115,10 @@ RadiositySolution solveRadiosity(const PatchMesh& mesh, const FormFactorMatrix& 
 // The integrator: solve once, then show the solution.
 
 void RadiosityIntegrator::preprocess(const Scene& scene, uint64_t, int threads, const Budget& budget) {
+  // The patches' irradiance is gathered from point, spot, directional and area lights; the
+  // sky's (a visibility integral over each patch's hemisphere) is not computed.
+  if (scene.environment())
+    throw Error("radiosity: an environment light is not supported; use path, photon, sppm or pppm (or a scene with other lights)");
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   auto start = Clock::now();

@@ -6,7 +6,7 @@ namespace pl {
 
 Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, int depth) const {
   SurfaceHit hit;
-  if (!scene.intersect(ray, &hit)) return Spectrum(0.0f);
+  if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(-ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);

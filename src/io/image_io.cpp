@@ -78,6 +78,13 @@ ImageRGB readImage(const std::string& path) {
   return image;
 }
 
+ImageRGB readEnvironmentMap(const std::string& path) {
+  ImageRGB image = readImage(path);
+  if (isDisplayReferred(path))
+    for (float& v : image.data) v = srgbDecode(std::clamp(v, 0.0f, 1.0f));
+  return image;
+}
+
 bool isDisplayReferred(const std::string& path) {
   auto in = openInput(path);
   std::string format = in->format_name();

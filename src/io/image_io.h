@@ -16,6 +16,9 @@ namespace pl {
 void writeImage(const std::string& path, const ImageRGB& image, const std::map<std::string, std::string>& metadata = {},
                 const Display& display = {});
 ImageRGB readImage(const std::string& path);
+// An environment map's texels as linear radiance: readImage, with display-referred files
+// (PNG, JPEG) decoded from sRGB. What the CLI and experiments hand the loader (ImageReader).
+ImageRGB readEnvironmentMap(const std::string& path);
 // True for images holding display values (PNG, JPEG, ...), false for linear ones (EXR, HDR, PFM).
 bool isDisplayReferred(const std::string& path);
 // A slice of a render (`photonlab render --sample-range`, `--pass-range`) as an EXR: R, G, B

@@ -49,6 +49,9 @@ class Light {
   virtual bool isDeltaPosition() const { return true; }
   virtual bool isDeltaDirection() const { return false; }
   bool isDelta() const { return isDeltaPosition() || isDeltaDirection(); }
+  // The environment (lights/environment_light.h): at infinity in every direction, found by rays
+  // that leave the scene rather than by hits, and emitting through the scene's bounding disc.
+  virtual bool isInfinite() const { return false; }
   // Lights that need the scene's extent (directional) are told it once loading is done.
   virtual void preprocess(const Vec3& sceneCenter, float sceneRadius) {}
   virtual const char* name() const = 0;

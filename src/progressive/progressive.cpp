@@ -35,7 +35,10 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
   Spectrum L(0.0f), beta(1.0f);
   for (int depth = 0; depth <= maxDepth; ++depth) {
     SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) break;
+    if (!scene.intersect(ray, &hit)) {  // the camera ray or a specular chain: the sky in full
+      L += beta * escapedRadiance(scene, ray.d, lambda, true, 0.0f);
+      break;
+    }
     Vec3 wo = -ray.d;
     if (hit.light) L += beta * hit.light->L(wo, lambda);
     if (!hit.bsdf->isDelta()) {

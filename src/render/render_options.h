@@ -9,6 +9,7 @@
 
 #include "core/exact_sum.h"
 
+#include "lights/environment_light.h"
 #include "render/image.h"
 #include "scene/camera.h"
 
@@ -24,6 +25,8 @@ struct RenderOptions {
   // Which of the scene file's cameras renders (GltfLoadOptions::camera); −1: the first, or the
   // automatic view of a file without one. Read when the scene is loaded.
   int camera = -1;
+  // The sky (--env, an experiment's env): replaces the file's; read when the scene is loaded.
+  EnvironmentSpec environment;
   // Samples per pixel of the per-pixel and light-side loops (0: until the time budget ends);
   // pass-based integrators count passes in their own parameters.
   int spp = 16;

@@ -121,6 +121,7 @@ class Loader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!isChild[i]) visit(int(i), Mat4(1.0f), 0);
     }
+    addEnvironment();
     const auto& cameras = scene_->fileCameras();
     if (options_.camera >= int(cameras.size()))
       fail("--camera", std::to_string(options_.camera) + " is out of range: the file places " + std::to_string(cameras.size()) +
@@ -138,8 +139,6 @@ class Loader {
       scene_->cameraSource = "automatic (three-quarter view of the bounds)";
       warn("no perspective camera: rendering from an automatic three-quarter view of the scene's bounds");
     }
-    if (scene_->lights().empty() && options_.requireLights)
-      fail("lights", "no light: neither KHR_lights_punctual lights nor emissive materials");
     if (average(scene_->totalPower()) <= 0) warn("the lights emit no power: the image will be black");
     return std::move(scene_);
   }
@@ -150,6 +149,66 @@ class Loader {
   }
   void warn(const std::string& what) {
     if (warnings_) warnings_->push_back(path_ + ": " + what);
+  }
+
+  // The sky: the caller's (--env, an experiment's env) over the file's
+  // (extras.photonlab.environment), and the default one where the scene has no light at all.
+  void addEnvironment() {
+    EnvironmentSpec spec = options_.environment;
+    std::string field = "--env";
+    if (!spec.enabled) {
+      const tinygltf::Value* ex = photonlabExtras(model_.extras);
+      if (ex && ex->IsObject() && ex->Has("environment")) {
+        field = "extras.photonlab.environment";
+        spec = fileEnvironment(ex->Get("environment"), field);
+      }
+    }
+    if (!spec.enabled) {
+      bool emissive = false;
+      for (const Material& m : scene_->materials()) emissive |= !isBlack(m.emission);
+      if (!scene_->lights().empty() || emissive) return;
+      spec = defaultEnvironment();
+      field = "default environment";
+      warn("no light (neither KHR_lights_punctual lights nor emissive materials): lit by the default environment, " +
+           spec.describe() + " (--env sets another)");
+    }
+    std::unique_ptr<EnvironmentLight> light;
+    try {
+      light = makeEnvironment(spec, options_.readImage, field);
+    } catch (const Error& e) {
+      if (field == "--env") throw;  // the command line's, not the file's
+      throw Error(path_ + ": " + e.what());
+    }
+    scene_->environmentSource = field + ": " + light->description();
+    scene_->addLight(std::move(light));
+  }
+  EnvironmentSpec fileEnvironment(const tinygltf::Value& v, const std::string& el) {
+    if (!v.IsObject()) fail(el, "must be an object: {\"radiance\": [r, g, b]} or {\"map\": \"sky.exr\", \"rotate\": degrees, \"scale\": s}");
+    EnvironmentSpec spec;
+    spec.enabled = true;
+    for (const std::string& key : v.Keys())
+      if (key != "radiance" && key != "map" && key != "rotate" && key != "scale")
+        fail(el + "." + key, "unknown key (radiance, map, rotate, scale)");
+    if (v.Has("radiance") == v.Has("map")) fail(el, "give either radiance or map");
+    if (v.Has("radiance")) {
+      spec.radiance = spectrumValue(v.Get("radiance"), el + ".radiance");
+      checkRange(el + ".radiance", spec.radiance, 0.0f, 1e30f);
+    } else {
+      if (!v.Get("map").IsString()) fail(el + ".map", "must be a file name (relative to the glTF file)");
+      const std::string name = v.Get("map").Get<std::string>();
+      if (bytes_) fail(el + ".map", "a file loaded from memory cannot refer to " + name);
+      spec.map = (std::filesystem::path(path_).parent_path() / name).string();
+    }
+    double number;
+    if (v.Has("rotate")) {
+      if (!getNumber(v, "rotate", &number) || !std::isfinite(number)) fail(el + ".rotate", "must be an angle in degrees");
+      spec.rotation = float(number);
+    }
+    if (v.Has("scale")) {
+      if (!getNumber(v, "scale", &number) || !(number >= 0) || !std::isfinite(number)) fail(el + ".scale", "must be a number >= 0");
+      spec.scale = float(number);
+    }
+    return spec;
   }
 
   void parse() {

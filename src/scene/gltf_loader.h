@@ -15,7 +15,13 @@ struct GltfLoadOptions {
   // with none is rendered from automaticCamera() (scene/camera.h), with a warning.
   int camera = -1;
   float aspect = 1.0f;         // width/height of the image, for the automatic camera's framing
-  bool requireLights = true;   // false: load a file without lights (`photonlab info`)
+  // The sky (lights/environment_light.h): when enabled, it replaces the file's
+  // extras.photonlab.environment. A scene with no light at all gets defaultEnvironment(), with a
+  // warning.
+  EnvironmentSpec environment;
+  // Reads an environment map's file (the io layer's readEnvironmentMap; without one a map is an
+  // error).
+  ImageReader readImage;
 };
 
 // Throws Error("FILE: ELEMENT: what is wrong") on any bad input. Warnings (things ignored or

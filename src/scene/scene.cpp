@@ -62,7 +62,14 @@ void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>&
   }
 }
 
-void Scene::addLight(std::unique_ptr<Light> light) { lights_.push_back(std::move(light)); }
+void Scene::addLight(std::unique_ptr<Light> light) {
+  if (light->isInfinite()) {
+    if (environment_) throw Error("a scene has at most one environment light");
+    environment_ = static_cast<const EnvironmentLight*>(light.get());
+    environmentIndex_ = int(lights_.size());
+  }
+  lights_.push_back(std::move(light));
+}
 
 void Scene::commit() {
   if (committed_) throw Error("scene committed twice");

@@ -12,6 +12,7 @@
 #include "core/frame.h"
 #include "core/sampling.h"
 #include "lights/area_light.h"
+#include "lights/environment_light.h"
 #include "lights/light.h"
 #include "scene/camera.h"
 
@@ -57,6 +58,7 @@ class Scene {
   // World-space triangles; normals and uvs may be empty (flat shading, uv = 0).
   void addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material);
+  // At most one environment (EnvironmentLight) among them.
   void addLight(std::unique_ptr<Light> light);
   void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
   // A camera the file places (a node with a perspective camera), named as `info` lists it.
@@ -88,7 +90,12 @@ class Scene {
   // renders ("automatic" where the file has none).
   const std::vector<FileCamera>& fileCameras() const { return fileCameras_; }
   std::string cameraSource;
+  // Where the environment comes from and what it is ("--env: constant 1, 1, 1 W/(m2 sr)"), or empty.
+  std::string environmentSource;
   const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
+  // The sky rays that leave the scene see (null without one), and its index in lights().
+  const EnvironmentLight* environment() const { return environment_; }
+  int environmentIndex() const { return environmentIndex_; }
   // Lights are chosen in proportion to their power (average over RGB).
   const AliasTable& lightDistribution() const { return lightDistribution_; }
   Spectrum totalPower() const;
@@ -119,6 +126,8 @@ class Scene {
   std::vector<Material> materials_;
   std::vector<std::unique_ptr<Light>> lights_;
   AliasTable lightDistribution_;
+  const EnvironmentLight* environment_ = nullptr;
+  int environmentIndex_ = -1;
   Camera camera_;
   std::vector<FileCamera> fileCameras_;
   bool hasCamera_ = false, committed_ = false;
