@@ -268,7 +268,7 @@ TEST_CASE("cli: --env lights a scene - a radiance or a map - and its mistakes ar
   expectCleanFailure("render " + scene + " -o " + never + " --env " + dir + "/no-sky.exr", never, "--env: file not found: " + dir + "/no-sky.exr");
   expectCleanFailure("render " + scene + " -o " + never + " --env-rotate 30", never, "--env-rotate: needs --env");
   expectCleanFailure("render " + scene + " -o " + never + " --env 1 --env-scale -1", never, "--env-scale");
-  expectCleanFailure("render " + scene + " -o " + never + " --env 1 --integrator bdpt", never, "environment light is not supported");
+  expectCleanFailure("render " + scene + " -o " + never + " --env 1 --integrator radiosity", never, "environment light is not supported");
   // A file that is not an image.
   const std::string text = GltfFixture::writeText("not-a-sky.exr", "hello");
   expectCleanFailure("render " + scene + " -o " + never + " --env " + text, never, "not-a-sky.exr");

@@ -73,7 +73,7 @@ struct VertexConnectionMerging::SubPath {
   float etaScale = 1.0f;
   int length = 0;  // edges so far
   bool specular = true;
-  bool finiteLight = true;  // false after a directional light's emission: no distance on its first edge
+  bool finiteLight = true;  // false after a directional light's or the sky's emission: no distance on its first edge
   float dVCM = 0, dVC = 0, dVM = 0;
   SampledWavelengths lambda;
 };
@@ -136,20 +136,25 @@ class VertexConnectionMerging::Tracer {
     if (!(e.pdfPos * e.pdfDir > 0) || isBlack(e.flux) || !isFinite(e.flux)) return;
     // y₀: chosen by next-event estimation with area density directPdfA (a directional light's
     // direction is a delta: 1), emitted towards y₁ with emissionPdfW (tech. rep. eqs. 31–33, 48–50).
-    const float directPdfA = pick * (light.isDeltaDirection() ? 1.0f : e.pdfPos);
+    // The sky is a direction, not a place: next-event estimation picks it with the solid-angle
+    // density pdfDir, and the emitted ray starts on the bounding disc (pdfPos) with no cosine
+    // there, as SmallVCM's background light.
+    const bool infinite = light.isInfinite();
+    const float directPdfA = pick * (light.isDeltaDirection() ? 1.0f : infinite ? e.pdfDir : e.pdfPos);
     const float emissionPdfW = pick * e.pdfPos * e.pdfDir;
-    const float cosLight = light.isDeltaPosition() ? 1.0f : std::abs(glm::dot(e.n, e.ray.d));
+    const float cosLight = light.isDeltaPosition() || infinite ? 1.0f : std::abs(glm::dot(e.n, e.ray.d));
     SubPath path;
     path.lambda = lambda;
     path.ray = e.ray;
     path.ray.tmin = scene_.epsilon();  // area lights emit from their own triangle
     path.beta = e.flux / pick;
-    path.finiteLight = !light.isDeltaDirection();
+    path.finiteLight = !light.isDeltaDirection() && !infinite;
     path.dVCM = Mis(directPdfA / emissionPdfW);
     path.dVC = light.isDelta() ? 0.0f : Mis(cosLight / emissionPdfW);  // no ray hits a delta light: no s = 0
     path.dVM = path.dVC * it_.misVc;
 
-    if (o_.connect && !light.isDelta()) emissionToCamera(light, e, pick, directPdfA, path.lambda, splat);
+    // The sky's emission point lies on the bounding disc, not on the sky: the camera cannot see it.
+    if (o_.connect && !light.isDelta() && !infinite) emissionToCamera(light, e, pick, directPdfA, path.lambda, splat);
 
     for (path.length = 1; path.length <= o_.maxDepth; ++path.length) {
       SurfaceHit hit;
@@ -242,7 +247,10 @@ class VertexConnectionMerging::Tracer {
     Rng& rng = c.rng;
     for (path.length = 1;; ++path.length) {
       SurfaceHit hit;
-      if (!scene_.intersect(path.ray, &hit)) return;
+      if (!scene_.intersect(path.ray, &hit)) {
+        if (scene_.environment()) background(path, sink);  // s = 0, t = length + 1
+        return;
+      }
       const Vec3 wo = -path.ray.d;
       const float cosIn = std::abs(glm::dot(wo, hit.ng));
       path.dVCM *= Mis(hit.t * hit.t);
@@ -297,6 +305,32 @@ class VertexConnectionMerging::Tracer {
     if (w != 0) sink.add(strategyIndex(0, t), path.beta * Le * w);
   }
 
+  // s = 0 with the sky: the camera ray left the scene. Its rivals as an emitter's, in the sky's
+  // measures (SmallVCM's background light): next-event estimation picks the direction with
+  // solid-angle density pick·p(ω), and the path's partial sums are still in solid angle at the
+  // last vertex (no hit completed them); emission starts on the bounding disc, cosine 1.
+  void background(const SubPath& path, Sink& sink) const {
+    const EnvironmentLight& sky = *scene_.environment();
+    const Vec3 d = path.ray.d;
+    Spectrum Le = sky.radiance(d, path.lambda);
+    if (isBlack(Le)) return;
+    const int t = path.length + 1;
+    float mis;
+    if (path.length == 1) {
+      mis = 1.0f;  // the sky seen directly: no light path reaches the camera from it (no (1, 1))
+    } else if (o_.connect) {
+      const float pick = scene_.lightDistribution().pmf(size_t(scene_.environmentIndex()));
+      float pdfPos, pdfDir;
+      sky.pdfLe(Ray{path.ray.o, -d}, Vec3(0.0f), &pdfPos, &pdfDir);
+      const float directPdfW = pick * pdfDir, emissionPdfW = pick * pdfPos * pdfDir;
+      mis = 1.0f / (1.0f + Mis(directPdfW) * path.dVCM + Mis(emissionPdfW) * path.dVC);
+    } else {
+      mis = path.specular ? 1.0f : 0.0f;
+    }
+    const float w = weigh(0, t, mis);
+    if (w != 0) sink.add(strategyIndex(0, t), path.beta * Le * w);
+  }
+
   // s = 1: next-event estimation. Rivals: the BSDF sampling the light (wLight; never a delta
   // light), and the light subpath of one more vertex with everything further back (wCamera,
   // eqs. 44–45). The latter's first factor is the density of y₀ emitting towards z over the
@@ -319,7 +353,11 @@ class VertexConnectionMerging::Tracer {
     const Vec3 y = std::isinf(ls.distance) ? hit.p : hit.p + ls.wi * ls.distance;
     float pdfPos, pdfDir;
     light.pdfLe(Ray{y, -ls.wi}, Vec3(0.0f), &pdfPos, &pdfDir);
-    const float emissionRatio = light.isDeltaDirection() ? pdfPos * cosZ : pdfDir * cosZ / (ls.distance * ls.distance);
+    // Emission over next-event estimation, emissionPdfW·cos z/(directPdfW·cos y): pdfDir·cos z/d²
+    // for a light at a place; pdfPos·cos z for a direction (directional light, the sky: no
+    // distance, no cosine at the light).
+    const float emissionRatio = light.isDeltaDirection() || light.isInfinite() ? pdfPos * cosZ
+                                                                               : pdfDir * cosZ / (ls.distance * ls.distance);
     const float bsdfDirPdf = light.isDelta() ? 0.0f : hit.bsdf->pdf(woLocal, wiLocal, bc);
     const float bsdfRevPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
     const float wLight = Mis(bsdfDirPdf / (pick * ls.pdf));
@@ -455,10 +493,6 @@ class VertexConnectionMerging::Tracer {
 // so the image is the same whatever the thread count. An iteration the budget cuts short is
 // dropped whole.
 ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
-  // Light subpaths from the sky and their MIS densities (a direction and a point of the
-  // bounding disc) are not written yet.
-  if (scene.environment())
-    throw Error("bdpt/vcm/bpm: an environment light is not supported yet; use path, guided, photon, sppm or pppm");
   Budget budget(options.timeLimit);
   RenderOptions o = options;
   resolveResolution(scene.camera(), o);
