@@ -50,6 +50,32 @@ ImageRGB skyMap() {
     for (int i = 0; i < 8; ++i) map.set(i, j, Spectrum(0.3f + 0.25f * float((i * 3 + j * 5) % 7)));
   return map;
 }
+// The textured area light: a 0.6 m × 0.4 m emitter 1 m up, facing down, whose radiance is an
+// 8×1 emissive texture [1 1 1 1 6 6 6 6] read bilinearly with repeat wrapping (glTF's default
+// sampler), u running from 1/8 to 7/8 along x: Le = 1 on the left, 6 on the right, a linear
+// ramp between the texel centres 3.5/8 and 4.5/8. Le(u) by that definition, and E(x) =
+// ∫ Le cosθx cosθy / r² dA by the midpoint rule on 48 × 32 cells (Le is smooth but for the
+// ramp's two kinks, and E varies slowly at 1 m: the rule is good to ~1e-4).
+const float kTexels[8] = {1, 1, 1, 1, 6, 6, 6, 6};
+double texturedLe(double u) {
+  double x = u * 8 - 0.5, x0 = std::floor(x), f = x - x0;
+  int i = (int(x0) % 8 + 8) % 8, j = (i + 1) % 8;
+  return (1 - f) * kTexels[i] + f * kTexels[j];
+}
+double texturedE(const Vec3& x) {
+  const int nx = 48, nz = 32;
+  const double w = 0.6, d = 0.4, cell = w / nx * (d / nz);
+  double E = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int k = 0; k < nz; ++k) {
+      const double px = -0.3 + (i + 0.5) * w / nx, pz = -0.2 + (k + 0.5) * d / nz;
+      const double dx = px - x.x, dy = 1.0 - x.y, dz = pz - x.z, r2 = dx * dx + dy * dy + dz * dz;
+      const double u = 0.125 + 0.75 * (px + 0.3) / w;
+      E += texturedLe(u) * (dy * dy / r2) / r2 * cell;  // cosθx = cosθy = dy/r
+    }
+  return E;
+}
+
 double skyIrradiance(const ImageRGB& map) {
   double E = 0;
   for (int j = 0; j < map.height / 2; ++j) {
@@ -119,6 +145,20 @@ std::vector<LightCase> lightCases() {
                      addQuad(s, quad[0], quad[1], quad[2], quad[3], m);
                    },
                    [quad](const Vec3& x) { return lambertPolygon(quad, x, Vec3(0, 1, 0), 4.0); }});
+  // Area with an emissive texture (texturedE): each point emits its texel's Le.
+  cases.push_back({"area (textured)",
+                   [quad](Scene& s) {
+                     auto image = std::make_shared<Image>();
+                     image->width = 8, image->height = 1;
+                     for (float t : kTexels) image->texels.push_back(Spectrum(t));
+                     Material m{"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))), Spectrum(1.0f), false};
+                     m.emissionTexture = std::make_shared<ColorTexture>(Spectrum(1.0f), image);
+                     uint32_t id = s.addMaterial(std::move(m));
+                     auto uvAt = [](const Vec3& p) { return Vec2(0.125f + 0.75f * (p.x + 0.3f) / 0.6f, 0.5f); };
+                     s.addMesh({quad[0], quad[1], quad[2], quad[3]}, {}, {uvAt(quad[0]), uvAt(quad[1]), uvAt(quad[2]), uvAt(quad[3])},
+                               {0, 1, 2, 0, 2, 3}, id);
+                   },
+                   [](const Vec3& x) { return texturedE(x); }});
   // Environment, constant: the open floor sees the whole upper hemisphere, E = π·L.
   cases.push_back({"environment (constant)", [](Scene& s) { s.addLight(EnvironmentLight::constant(Spectrum(0.7f))); },
                    [](const Vec3&) { return kPi * 0.7; }, true, 4});

@@ -136,8 +136,8 @@ TEST_CASE("area light: Φ = π·L·A - photons' mean flux is Φ - directions cos
   for (int k = 0; k < 10; ++k) exp[k] = 100000 * (std::pow((k + 1) / 10.0, 2) - std::pow(k / 10.0, 2));
   CHECK(test::chiSquarePValue(obs, exp) > 1e-3);
   // One-sided: nothing is emitted from the back.
-  CHECK(one.L(Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 0.0f);
-  CHECK(two.L(Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 3.0f);
+  CHECK(one.L(Vec2(0.0f), Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 0.0f);
+  CHECK(two.L(Vec2(0.0f), Vec3(0, 1, 0), SampledWavelengths::rgb()).g == 3.0f);
 }
 
 TEST_CASE("area light sampling reproduces Lambert's irradiance formula for a polygon") {

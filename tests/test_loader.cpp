@@ -434,6 +434,49 @@ Spectrum albedoAt(const Scene& scene, float x) {
 
 }  // namespace
 
+TEST_CASE("loader: emissiveTexture - each point emits its texel, sRGB-decoded, times the factor; black triangles are no lights") {
+  // The fixture's 2 m × 2 m floor (4 m², one-sided) made emissive: factor 1 × strength 3 × a
+  // uniform texture of sRGB 188/255, linear ((188/255 + 0.055)/1.055)^2.4 = 0.50288 (by hand):
+  // Le = 1.50864 everywhere, power π·Le·A = 18.957 W over its two triangles.
+  auto emissive = [](const std::vector<uint8_t>& png, const std::string& name, std::vector<std::string>* warnings) {
+    GltfFixture f;
+    float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
+    f.bin.resize(104);
+    std::memcpy(f.bin.data() + 72, uv, 32);
+    f.doc["buffers"][0]["byteLength"] = 104;
+    f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
+    f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+    f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+    f.doc["images"] = {{{"uri", "data:image/png;base64," + base64(png)}}};
+    f.doc["textures"] = {{{"source", 0}}};
+    f.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+    f.doc["materials"][0]["emissiveTexture"] = {{"index", 0}};
+    f.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", 3.0}};
+    f.doc["extensionsUsed"].push_back("KHR_materials_emissive_strength");
+    return loadGltf(f.write(name), warnings);
+  };
+  std::vector<std::string> warnings;
+  auto lit = emissive(pngRow(2, 0, 8, {188, 188}), "emissive-texture.gltf", &warnings);
+  for (auto& w : warnings) CHECK(w.find("emissiveTexture") == std::string::npos);
+  double area = 0;
+  int areaLights = 0;
+  for (auto& l : lit->lights())
+    if (std::string(l->name()) == "area") area += l->power().g, ++areaLights;
+  CHECK(areaLights == 2);
+  CHECK(area == Approx(kPi * 3 * 0.50288 * 4).epsilon(1e-4));
+  // A hit on the floor sees the texel's Le; from below (one-sided), nothing.
+  SurfaceHit hit;
+  REQUIRE(lit->intersect(Ray{Vec3(0.3f, 1, 0.2f), Vec3(0, -1, 0)}, &hit));
+  REQUIRE(hit.light);
+  CHECK(hit.light->L(hit.uv, Vec3(0, 1, 0), SampledWavelengths::rgb()).g == Approx(3 * 0.50288).epsilon(1e-4));
+  CHECK(hit.light->L(hit.uv, Vec3(0, -1, 0), SampledWavelengths::rgb()).g == 0.0f);
+  // An all-black texture: the factor alone would light the floor, the texels do not.
+  auto dark = emissive(pngRow(2, 0, 8, {0, 0}), "emissive-black.gltf", nullptr);
+  for (auto& l : dark->lights()) CHECK(std::string(l->name()) != "area");
+  REQUIRE(dark->intersect(Ray{Vec3(0.3f, 1, 0.2f), Vec3(0, -1, 0)}, &hit));
+  CHECK(hit.light == nullptr);
+}
+
 TEST_CASE("loader: grey-scale and 16-bit PNG textures decode to the sRGB values they store") {
   // sRGB⁻¹ by hand: 188/255 (and 48316/65535, the same fraction) → ((0.73725 + 0.055)/1.055)^2.4
   // = 0.50288; 1000/65535 = 0.015259 is on the linear segment: /12.92 = 0.0011810, where its

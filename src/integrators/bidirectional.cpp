@@ -288,7 +288,7 @@ class VertexConnectionMerging::Tracer {
   // then everything further back (eqs. 42–43). bpm has neither: it keeps only the paths that
   // nothing can merge, the purely specular ones.
   void emission(const SurfaceHit& hit, const Vec3& wo, const SubPath& path, Sink& sink) const {
-    Spectrum Le = hit.light->L(wo, path.lambda);
+    Spectrum Le = hit.light->L(hit.uv, wo, path.lambda);
     if (isBlack(Le)) return;
     const int t = path.length + 1;
     float mis;

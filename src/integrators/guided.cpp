@@ -56,7 +56,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     // Emission found by sampling: MIS against the next-event estimate made at the previous
     // vertex. Both weights treat the direction as drawn by the BSDF alone (see below).
     if (hit.light) {
-      Spectrum Le = hit.light->L(-ray.d, lambda);
+      Spectrum Le = hit.light->L(hit.uv, -ray.d, lambda);
       if (specularBounce) {
         L += beta * Le;
       } else if (!isBlack(Le)) {

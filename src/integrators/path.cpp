@@ -21,7 +21,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
     // Emission found by BSDF sampling; next-event estimation already counted the same light
     // from the previous vertex, so weight both by MIS.
     if (hit.light) {
-      Spectrum Le = hit.light->L(-ray.d, lambda);
+      Spectrum Le = hit.light->L(hit.uv, -ray.d, lambda);
       if (specularBounce) {
         L += beta * Le;
       } else if (!isBlack(Le)) {

@@ -109,7 +109,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       break;
     }
     Vec3 wo = -ray.d;
-    if (hit.light && o_.aov.empty()) L += beta * hit.light->L(wo, lambda);
+    if (hit.light && o_.aov.empty()) L += beta * hit.light->L(hit.uv, wo, lambda);
     Vec3 woLocal = hit.shading.toLocal(wo);
     if (hit.bsdf->isDelta()) {
       BSDFSample s;

@@ -188,7 +188,7 @@ Spectrum RadiosityIntegrator::Li(const Ray& ray, const Scene& scene, SampledWave
   // (B − M)/π of the point a cosine-sampled ray reaches. Emission one bounce away is the
   // shadow ray's to count, so the gathered ray takes only the reflected part.
   Spectrum L(0.0f);
-  if (hit.light) L += hit.light->L(wo, lambda);
+  if (hit.light) L += hit.light->L(hit.uv, wo, lambda);
   Vec3 weights;
   int p = mesh_->locate(hit.primitive, hit.barycentric, wo, &weights);
   if (p < 0 || isBlack(mesh_->patches()[p].reflectance)) return L;

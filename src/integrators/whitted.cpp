@@ -8,7 +8,7 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
   Spectrum L(0.0f);
-  if (hit.light) L += hit.light->L(-ray.d, lambda);
+  if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);
   if (!hit.bsdf->isDelta()) return L + estimateDirect(scene, hit, wo, lambda, rng, false);
   if (depth >= maxDepth_) return L;

@@ -40,7 +40,7 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
       break;
     }
     Vec3 wo = -ray.d;
-    if (hit.light) L += beta * hit.light->L(wo, lambda);
+    if (hit.light) L += beta * hit.light->L(hit.uv, wo, lambda);
     if (!hit.bsdf->isDelta()) {
       vp->hit = hit;
       vp->wo = wo;

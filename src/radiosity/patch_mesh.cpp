@@ -112,7 +112,8 @@ PatchMesh::PatchMesh(const Scene& scene, float patchSize) : patchSize_(patchSize
       namedNonDiffuse[materialIndex] = true;
       nonDiffuse_.push_back(material.name.empty() ? "#" + std::to_string(materialIndex) : material.name);
     }
-    const Spectrum exitance = kPi * material.emission;
+    const AreaLight* light = scene.triangleLight(t);
+    const Spectrum exitance = light ? kPi * light->meanRadiance() : Spectrum(0.0f);
 
     for (int face = 0; face < faceCount(material); ++face) {
       const Vec3 normal = face == 0 ? faces.normal : -faces.normal;
@@ -150,8 +151,14 @@ PatchMesh::PatchMesh(const Scene& scene, float patchSize) : patchSize_(patchSize
         p.area = 0.5f * glm::length(glm::cross(p.v[1] - p.v[0], p.v[2] - p.v[0]));
         p.size = longestEdge({p.v[0], p.v[1], p.v[2]});
         p.reflectance = reflectance;
-        // One-sided emitters emit from their counter-clockwise face, which is face 0.
-        p.exitance = (face == 0 || material.twoSided) ? exitance : Spectrum(0.0f);
+        // One-sided emitters emit from their counter-clockwise face, which is face 0. An
+        // emissive texture's patch takes M = π·Le at its centroid (the midpoint rule).
+        Spectrum M = exitance;
+        if (light && light->textured()) {
+          const float ca = float(a0 + a1 + a2) / (3.0f * n), cb = float(b0 + b1 + b2) / (3.0f * n);
+          M = kPi * light->radiance(scene.surfaceAt(t, ca, cb).uv, SampledWavelengths::rgb());
+        }
+        p.exitance = (face == 0 || material.twoSided) ? M : Spectrum(0.0f);
         p.primitive = t;
         patches_.push_back(p);
       };

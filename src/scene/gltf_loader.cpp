@@ -515,7 +515,11 @@ class Loader {
     if (auto* ext = extension(m.extensions, "KHR_materials_emissive_strength")) getNumber(*ext, "emissiveStrength", &strength);
     out.emission = emissive * float(strength);
     checkRange(el + ".emission", out.emission, 0.0f, 1e30f);
-    if (m.emissiveTexture.index >= 0) ignoredInMaterial(index, "emissiveTexture is ignored (emissiveFactor is used)");
+    if (m.emissiveTexture.index >= 0) {
+      if (m.emissiveTexture.texCoord != 0)
+        ignoredInMaterial(index, "emissiveTexture uses TEXCOORD_" + std::to_string(m.emissiveTexture.texCoord) + "; TEXCOORD_0 is used");
+      out.emissionTexture = std::make_shared<ColorTexture>(out.emission, textureImage(m.emissiveTexture.index, el + ".emissiveTexture"));
+    }
 
     double transmission = 0.0, thickness = 0.0, ior = 1.5;
     if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) getNumber(*ext, "transmissionFactor", &transmission);

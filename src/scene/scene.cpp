@@ -87,8 +87,18 @@ void Scene::commit() {
     faceNormals_[i] = len > 0 ? n / len : Vec3(0, 0, 1);
     const Material& m = materials_[tri.material];
     if (!isBlack(m.emission) && len > 0) {
+      std::unique_ptr<AreaLight> light;
+      if (m.emissionTexture) {
+        auto texture = std::make_shared<EmissionTexture>();
+        texture->texture = m.emissionTexture;
+        for (int k = 0; k < 3; ++k) texture->uv[k] = tri.hasUV ? uvs_[tri.v[k]] : Vec2(0.0f);
+        light = std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided, std::move(texture));
+        if (isBlack(light->meanRadiance())) continue;  // dark texels are not lights
+      } else {
+        light = std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided);
+      }
       tri.light = int32_t(lights_.size());
-      lights_.push_back(std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided));
+      lights_.push_back(std::move(light));
     }
   }
 

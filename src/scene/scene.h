@@ -21,8 +21,10 @@ namespace pl {
 struct Material {
   std::string name;
   std::unique_ptr<BSDF> bsdf;
-  Spectrum emission{0.0f};  // emitted radiance Le, W/(m²·sr)
+  Spectrum emission{0.0f};  // emitted radiance Le, W/(m²·sr); with a texture, its factor
   bool twoSided = false;    // glTF doubleSided: emits from both faces
+  // glTF emissiveTexture × emission (sRGB texels decoded), or null: Le is `emission` everywhere.
+  std::shared_ptr<const ColorTexture> emissionTexture = nullptr;
 };
 
 struct SurfaceHit {
@@ -83,6 +85,12 @@ class Scene {
   // A triangle's corners (world space) and material index.
   std::array<Vec3, 3> trianglePositions(uint32_t primitive) const;
   uint32_t triangleMaterial(uint32_t primitive) const { return triangles_[primitive].material; }
+  // The area light a triangle is (null if none): an emissive material's triangle, unless its
+  // emissive texture is black over it.
+  const AreaLight* triangleLight(uint32_t primitive) const {
+    const int32_t l = triangles_[primitive].light;
+    return l >= 0 ? static_cast<const AreaLight*>(lights_[size_t(l)].get()) : nullptr;
+  }
 
   const Camera& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }

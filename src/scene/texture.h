@@ -46,6 +46,7 @@ class ColorTexture {
     return factor_ * c;
   }
   bool isConstant() const { return !image_; }
+  const Image* image() const { return image_.get(); }
   const Spectrum& factor() const { return factor_; }
 
  private:
