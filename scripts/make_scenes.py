@@ -17,7 +17,9 @@ import sys
 class Gltf:
     def __init__(self):
         self.blob = bytearray()
-        self.doc = {"asset": {"version": "2.0", "generator": "photonlab scripts/make_scenes.py"},
+        # Light values in W/sr, W/m², W/(m²·sr) as written (README, Scenes: units).
+        self.doc = {"asset": {"version": "2.0", "generator": "photonlab scripts/make_scenes.py",
+                              "extras": {"photonlab": {"units": "radiometric"}}},
                     "scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [],
                     "materials": [], "accessors": [], "bufferViews": [], "buffers": []}
         self.extensions = set()

@@ -39,7 +39,7 @@ struct GltfFixture {
     std::memcpy(bin.data(), positions, 48);
     std::memcpy(bin.data() + 48, indices, 24);
     doc = json::parse(R"({
-      "asset": {"version": "2.0"},
+      "asset": {"version": "2.0", "extras": {"photonlab": {"units": "radiometric"}}},
       "scene": 0,
       "scenes": [{"nodes": [0, 1, 2]}],
       "nodes": [

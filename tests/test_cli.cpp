@@ -273,3 +273,20 @@ TEST_CASE("cli: --env lights a scene - a radiance or a map - and its mistakes ar
   const std::string text = GltfFixture::writeText("not-a-sky.exr", "hello");
   expectCleanFailure("render " + scene + " -o " + never + " --env " + text, never, "not-a-sky.exr");
 }
+
+TEST_CASE("cli: --units - info says which units a file's light values were read in, render records an override") {
+  GltfFixture f;  // photonlab's marker: radiometric
+  const std::string scene = f.write("cli-units.gltf"), dir = GltfFixture::dir();
+  Result i = run("info " + scene);
+  CHECK_THAT(i.out, Contains("units: radiometric (asset.extras.photonlab.units)"));
+  CHECK_THAT(i.out, Contains("point        x1      power [25.1327, 25.1327, 25.1327] W"));  // 4π·2
+  Result p = run("info " + scene + " --units photometric");
+  CHECK_THAT(p.out, Contains("units: photometric (--units)"));
+  CHECK_THAT(p.out, Contains("power [0.0367976, 0.0367976, 0.0367976] W"));  // 4π·2/683
+  Result r = run("render " + scene + " -o " + dir + "/units.exr --width 8 --spp 1 --units photometric");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(run("info " + dir + "/units.exr").out, Contains("\"units\": \"photometric\""));
+  const std::string never = dir + "/never-units.exr";
+  expectCleanFailure("render " + scene + " -o " + never + " --units lumens", never, "--units");
+}

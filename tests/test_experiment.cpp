@@ -168,6 +168,7 @@ TEST_CASE("experiment config: mistakes name the file - line and key") {
       {"env = -1\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: must be in [0"},
       {"env = \"1,2\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: expected R,G,B"},
       {"env = [1, \"x\", 1]\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env: must be a number"},
+      {"units = \"lumens\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: units: must be \"radiometric\" or \"photometric\""},
       {"env_rotate = 30\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":1: env_rotate: needs env"},
       {"env = 1\nenv_scale = -2\n" + kHead + "[[run]]\nintegrator = \"path\"\n", p + ":2: env_scale: must be in [0"},
   };
@@ -210,7 +211,7 @@ TEST_CASE("experiment config: the fingerprint changes with what is rendered - no
   CHECK(again.runs[0].seeds == alpha.runs[0].seeds);
 }
 
-TEST_CASE("experiment config: env - a sky for the reference and every run, in the fingerprint and the resolved config") {
+TEST_CASE("experiment config: env and units - for the reference and every run, in the fingerprint and the resolved config") {
   ConfigFixture f;
   auto none = f.parse(kHead + "[[run]]\nintegrator = \"path\"\n");
   auto grey = f.parse("env = 0.5\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
@@ -226,6 +227,12 @@ TEST_CASE("experiment config: env - a sky for the reference and every run, in th
   CHECK(m.scale == 2.0f);
   CHECK(settingsFingerprint(none.runs[0].settings) != settingsFingerprint(grey.runs[0].settings));
   CHECK(settingsFingerprint(grey.runs[0].settings) != settingsFingerprint(rgb.runs[0].settings));
+  // units: as --units, for the reference and every run.
+  auto units = f.parse("units = \"photometric\"\n" + kHead + "[[run]]\nintegrator = \"path\"\n");
+  CHECK(units.runs[0].settings.image.units == "photometric");
+  CHECK(units.reference.settings.image.units == "photometric");
+  CHECK(settingsFingerprint(units.runs[0].settings) != settingsFingerprint(none.runs[0].settings));
+  CHECK(settingsFingerprint(f.parse(resolvedConfigToml(units, {})).runs[0].settings) == settingsFingerprint(units.runs[0].settings));
   for (auto* c : {&rgb, &map}) {
     auto again = f.parse(resolvedConfigToml(*c, {}));
     CHECK(settingsFingerprint(again.runs[0].settings) == settingsFingerprint(c->runs[0].settings));

@@ -406,7 +406,9 @@ std::vector<uint8_t> pngRow(int width, int colorType, int bits, const std::vecto
 
 // The fixture's floor with a 2×1 base-colour texture (the image at `dataUri`) spread across it,
 // u = (x + 1)/2, v = (z + 1)/2, times `factor`.
-std::unique_ptr<Scene> floorTextured(const std::string& dataUri, const std::vector<double>& factor, const std::string& name) {
+// The fixture's floor with TEXCOORD_0 u = (x + 1)/2, v = (z + 1)/2 and textures[0] the image at
+// `dataUri`, which no material uses yet.
+GltfFixture floorWithTexture(const std::string& dataUri) {
   GltfFixture f;
   float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
   f.bin.resize(104);
@@ -417,6 +419,11 @@ std::unique_ptr<Scene> floorTextured(const std::string& dataUri, const std::vect
   f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
   f.doc["images"] = {{{"uri", dataUri}}};
   f.doc["textures"] = {{{"source", 0}}};
+  return f;
+}
+
+std::unique_ptr<Scene> floorTextured(const std::string& dataUri, const std::vector<double>& factor, const std::string& name) {
+  GltfFixture f = floorWithTexture(dataUri);
   f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = factor;
   return loadGltf(f.write(name));
@@ -434,21 +441,12 @@ Spectrum albedoAt(const Scene& scene, float x) {
 
 }  // namespace
 
-TEST_CASE("loader: emissiveTexture - each point emits its texel, sRGB-decoded, times the factor; black triangles are no lights") {
+TEST_CASE("loader: emissiveTexture - each point emits its texel, sRGB-decoded, times the factor - black triangles are no lights") {
   // The fixture's 2 m × 2 m floor (4 m², one-sided) made emissive: factor 1 × strength 3 × a
   // uniform texture of sRGB 188/255, linear ((188/255 + 0.055)/1.055)^2.4 = 0.50288 (by hand):
   // Le = 1.50864 everywhere, power π·Le·A = 18.957 W over its two triangles.
   auto emissive = [](const std::vector<uint8_t>& png, const std::string& name, std::vector<std::string>* warnings) {
-    GltfFixture f;
-    float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
-    f.bin.resize(104);
-    std::memcpy(f.bin.data() + 72, uv, 32);
-    f.doc["buffers"][0]["byteLength"] = 104;
-    f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 32}});
-    f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
-    f.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
-    f.doc["images"] = {{{"uri", "data:image/png;base64," + base64(png)}}};
-    f.doc["textures"] = {{{"source", 0}}};
+    GltfFixture f = floorWithTexture("data:image/png;base64," + base64(png));
     f.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
     f.doc["materials"][0]["emissiveTexture"] = {{"index", 0}};
     f.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", 3.0}};
@@ -477,6 +475,42 @@ TEST_CASE("loader: emissiveTexture - each point emits its texel, sRGB-decoded, t
   CHECK(hit.light == nullptr);
 }
 
+TEST_CASE("loader: KHR_texture_transform moves, turns and scales a texture's uv as the extension's GLSL does") {
+  // The floor's 2×1 texture [sRGB 188, 0] → linear [0.50288, 0]; u = (x + 1)/2, v = (z + 1)/2.
+  // uv' = T(offset)·R(rotation)·S(scale)·uv: u' = cos·sx·u − sin·sy·v + ox, v' = sin·sx·u + cos·sy·v + oy.
+  auto albedo = [](const Scene& scene, float x, float z) {
+    SurfaceHit hit;
+    REQUIRE(scene.intersect(Ray{Vec3(x, 1, z), Vec3(0, -1, 0)}, &hit));
+    return hit.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), hit.uv).g * kPi;
+  };
+  auto load = [](const json& transform, const std::string& name, std::vector<std::string>* warnings = nullptr) {
+    GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 0, 8, {188, 0})));
+    f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}};
+    f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.0};
+    f.doc["extensionsUsed"].push_back("KHR_texture_transform");
+    return loadGltf(f.write(name), warnings);
+  };
+  const float lit = 0.50288f;
+  std::vector<std::string> warnings;
+  auto none = load(json::object(), "tt-none.gltf", &warnings);
+  for (auto& w : warnings) CHECK(w.find("KHR_texture_transform") == std::string::npos);  // implemented: no warning
+  CHECK(albedo(*none, -0.5f, 0) == Approx(lit).epsilon(1e-4));  // u = 0.25: texel 0
+  CHECK(albedo(*none, 0.5f, 0) == Approx(0).margin(1e-6));      // u = 0.75: texel 1
+  // offset ½ in u: the texels swap.
+  auto shifted = load({{"offset", {0.5, 0.0}}}, "tt-offset.gltf");
+  CHECK(albedo(*shifted, -0.5f, 0) == Approx(0).margin(1e-6));
+  CHECK(albedo(*shifted, 0.5f, 0) == Approx(lit).epsilon(1e-4));
+  // rotation π/2: u' = −v, so the texture now varies with z: z = −½ (v = ¼) reads u' = −¼ ≡ ¾.
+  auto turned = load({{"rotation", kPi / 2}}, "tt-rotation.gltf");
+  CHECK(albedo(*turned, 0, -0.5f) == Approx(0).margin(1e-5));
+  CHECK(albedo(*turned, 0, 0.5f) == Approx(lit).epsilon(1e-4));
+  // scale 2 in u: u' = 2u, at x = −½ u' = ½, between the texels (bilinear: half of each);
+  // at x = −¾ (u = ⅛) u' = ¼, texel 0.
+  auto scaled = load({{"scale", {2.0, 1.0}}}, "tt-scale.gltf");
+  CHECK(albedo(*scaled, -0.5f, 0) == Approx(lit / 2).epsilon(1e-4));
+  CHECK(albedo(*scaled, -0.75f, 0) == Approx(lit).epsilon(1e-4));
+}
+
 TEST_CASE("loader: grey-scale and 16-bit PNG textures decode to the sRGB values they store") {
   // sRGB⁻¹ by hand: 188/255 (and 48316/65535, the same fraction) → ((0.73725 + 0.055)/1.055)^2.4
   // = 0.50288; 1000/65535 = 0.015259 is on the linear segment: /12.92 = 0.0011810, where its
@@ -496,7 +530,7 @@ TEST_CASE("loader: grey-scale and 16-bit PNG textures decode to the sRGB values 
   CHECK(albedoAt(*greyAlpha, -0.5f).b == Approx(0.50288).epsilon(1e-3));
 }
 
-TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it; ignored features are one warning each") {
+TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {
   GltfFixture d;
   d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
   d.doc["extensionsRequired"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
@@ -504,7 +538,7 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
              Contains("extensionsRequired[1]: KHR_draco_mesh_compression is required by the file and photonlab does not implement it"));
   GltfFixture m;
   m.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // implemented: loads
-  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_texture_transform"};
+  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_variants"};
   m.doc["materials"][0]["name"] = "seat";
   m.doc["materials"][0]["extensions"] = {{"KHR_materials_sheen", json::object()}, {"KHR_materials_clearcoat", json::object()}};
   m.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.5;
@@ -519,7 +553,7 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   CHECK(count("KHR_materials_sheen") == 1);
   CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_sheen is not implemented: ignored") == 1);
   CHECK(count("materials[0] 'seat': KHR_materials_clearcoat is not implemented: ignored") == 1);
-  CHECK(count("extensionsUsed: KHR_texture_transform is not implemented: ignored") == 1);
+  CHECK(count("extensionsUsed: KHR_materials_variants is not implemented: ignored") == 1);
   CHECK(count("KHR_lights_punctual") == 0);
   // The loader's own approximations are said the same way: once for the four materials.
   CHECK(count("materials[0] 'seat' (and 3 more): metallicFactor between 0 and 1 is rendered as Lambertian") == 1);
@@ -539,4 +573,42 @@ TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - 
   CHECK(left.b == Approx(0.0f).margin(1e-6));
   CHECK(right.r == Approx(0.0f).margin(1e-6));
   CHECK(right.b == Approx(0.5f * 0.5029f).epsilon(2e-3));  // factor 0.5 × sRGB⁻¹(188/255)
+}
+
+// A file without photonlab's marker, as other tools write them.
+void photonlabExtrasErase(GltfFixture& f) { f.doc["asset"].erase("extras"); }
+
+TEST_CASE("loader: units - photometric (cd, lx, nits) by default, divided by 683 lm/W - radiometric when the file or --units says") {
+  // The fixture's point light has intensity 2 and photonlab's own marker (radiometric): 2 W/sr,
+  // Φ = 4π·2. Without the marker the 2 is candela: 2/683 W/sr.
+  auto pointPower = [](const std::unique_ptr<Scene>& s) {
+    for (auto& l : s->lights())
+      if (std::string(l->name()) == "point") return double(l->power().g);
+    return -1.0;
+  };
+  GltfFixture radiometric;
+  auto r = loadGltf(radiometric.write("units-radiometric.gltf"));
+  CHECK(pointPower(r) == Approx(4 * kPi * 2).epsilon(1e-6));
+  CHECK_THAT(r->units, Contains("radiometric (asset.extras.photonlab.units)"));
+  GltfFixture photometric;
+  photonlabExtrasErase(photometric);
+  photometric.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+  photometric.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", 683.0}};
+  photometric.doc["extensionsUsed"].push_back("KHR_materials_emissive_strength");
+  auto p = loadGltf(photometric.write("units-photometric.gltf"));
+  CHECK(pointPower(p) == Approx(4 * kPi * 2 / 683).epsilon(1e-6));
+  CHECK(p->materials()[0].emission.g == Approx(1.0f).epsilon(1e-6));  // 683 nits = 1 W/(m² sr)
+  CHECK_THAT(p->units, Contains("photometric") && Contains("683"));
+  // --units overrides the file either way.
+  GltfLoadOptions o;
+  o.units = "radiometric";
+  CHECK(pointPower(loadGltf(photometric.write("units-photometric.gltf"), nullptr, o)) == Approx(4 * kPi * 2).epsilon(1e-6));
+  o.units = "photometric";
+  CHECK(pointPower(loadGltf(radiometric.write("units-radiometric.gltf"), nullptr, o)) == Approx(4 * kPi * 2 / 683).epsilon(1e-6));
+  // extras.photonlab.power stays in watts whatever the units.
+  photometric.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {{"photonlab", {{"power", 5.0}}}};
+  CHECK(pointPower(loadGltf(photometric.write("units-power.gltf"))) == Approx(5.0).epsilon(1e-6));
+  GltfFixture bad;
+  bad.doc["asset"]["extras"]["photonlab"]["units"] = "kelvin";
+  CHECK_THAT(loadError(bad.write("units-bad.gltf")), Contains("asset.extras.photonlab.units") && Contains("radiometric"));
 }

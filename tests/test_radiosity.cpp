@@ -330,7 +330,7 @@ TEST_CASE("radiosity: the same image whatever the thread count") {
   }
 }
 
-TEST_CASE("radiosity: non-diffuse materials are black and named once; the patches view") {
+TEST_CASE("radiosity: non-diffuse materials are black and named once - the patches view") {
   // A floor under a point light with a mirror and a glass pane standing on it.
   Scene s;
   addFacing(s, Vec3(0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(0, 1, 0), lambertian(s, 0.8f));

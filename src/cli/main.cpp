@@ -86,6 +86,7 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   load.camera = s.image.camera;
   load.environment = s.image.environment;
   load.readImage = readEnvironmentMap;
+  load.units = s.image.units;
   if (s.image.width > 0 && s.image.height > 0) load.aspect = float(s.image.width) / float(s.image.height);
   auto scene = loadScene(scenePath, load);
   // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
@@ -192,12 +193,13 @@ int cmdImageInfo(const std::string& imagePath) {
   return 0;
 }
 
-int cmdInfo(const std::string& scenePath) {
+int cmdInfo(const std::string& scenePath, const std::string& units) {
   std::string ext = fs::path(scenePath).extension().string();
   if (ext == ".exr" || ext == ".png") return cmdImageInfo(scenePath);
   // Any loadable file: one without lights is described too (a render of it would stop at them).
   GltfLoadOptions load;
   load.readImage = readEnvironmentMap;
+  load.units = units;
   auto scene = loadScene(scenePath, load);
   const Bounds& b = scene->bounds();
   std::printf("scene: %s\n", scenePath.c_str());
@@ -225,6 +227,7 @@ int cmdInfo(const std::string& scenePath) {
     e.first++;
     e.second += l->power();
   }
+  std::printf("units: %s\n", scene->units.c_str());
   std::printf("lights: %zu\n", scene->lights().size());
   for (auto& [kind, e] : byKind)
     std::printf("  %-12s x%-6d power [%g, %g, %g] W\n", kind.c_str(), e.first, e.second.r, e.second.g, e.second.b);
@@ -427,6 +430,10 @@ int main(int argc, char** argv) {
                      "Environment light: R,G,B (or one number) radiance in W/(m2 sr), or an equirectangular map "
                      "(EXR, HDR, PFM; PNG/JPEG are sRGB-decoded); replaces the file's");
   auto* envRotateOpt = render->add_option("--env-rotate", envRotate, "Degrees the --env map turns about +Y");
+  render->add_option("--units", options.units,
+                     "Light values in the file: radiometric (W/sr, W/m2, W/(m2 sr)) or photometric (cd, lx, nits; /683 lm/W). "
+                     "Default: the file's asset.extras.photonlab.units, else photometric")
+      ->check(CLI::IsMember({"radiometric", "photometric"}));
   auto* envScaleOpt = render->add_option("--env-scale", envScale, "Factor on the --env radiance");
   auto* timeOpt = render->add_option("--time", options.timeLimit,
                                      "Time budget in seconds: the render stops when it is spent, wherever it is");
@@ -487,6 +494,8 @@ int main(int argc, char** argv) {
                                           "or an image's metadata as JSON");
   std::string infoScene;
   info->add_option("file", infoScene, "glTF 2.0 scene, or an .exr written by photonlab")->required();
+  std::string infoUnits;
+  info->add_option("--units", infoUnits, "As render's --units")->check(CLI::IsMember({"radiometric", "photometric"}));
 
   auto* compare = app.add_subcommand("compare", "Error metrics of IMAGE against REFERENCE, as one JSON object");
   std::string imagePath, referencePath;
@@ -649,7 +658,7 @@ int main(int argc, char** argv) {
       }
       return cmdRender(scenePath, outputs, settings, checkpoints, quiet, display);
     }
-    if (*info) return cmdInfo(infoScene);
+    if (*info) return cmdInfo(infoScene, infoUnits);
     if (*compare) return cmdCompare(imagePath, referencePath);
     if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
     if (*bench) return runBench(benchScene, benchThreads, benchSpp);

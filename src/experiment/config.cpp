@@ -212,6 +212,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
   const toml::node* runNode = nullptr;
   bool hasSeed = false;
   EnvironmentSpec environment;
+  std::string units;
   const toml::node *envRotate = nullptr, *envScale = nullptr;
   for (auto&& [k, node] : root) {
     const std::string key(k.str());
@@ -277,6 +278,9 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
         if (std::string(e.what()).rfind(key + ":", 0) == 0) p.fail(&node, key, std::string(e.what()).substr(key.size() + 2));
         throw;
       }
+    } else if (key == "units") {
+      units = p.string(node, key);
+      if (units != "radiometric" && units != "photometric") p.fail(&node, key, "must be \"radiometric\" or \"photometric\"");
     } else if (key == "env_rotate") {
       environment.rotation = float(p.number(node, key, -1e6, 1e6, true));
       envRotate = &node;
@@ -287,7 +291,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       // Written by `photonlab run` into experiment.toml, which can be run again as it is.
       if (!node.is_table()) p.fail(&node, key, "must be a table");
     } else {
-      p.fail(&node, key, "unknown key (known: name, description, scene, env, env_rotate, env_scale, width, height, seed, "
+      p.fail(&node, key, "unknown key (known: name, description, scene, units, env, env_rotate, env_scale, width, height, seed, "
                          "seeds, threads, inset, exposure, tonemap, baseline, target_relmse, [reference], [[run]], [provenance])");
     }
   }
@@ -361,6 +365,7 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     s->image.height = c.height;
     s->image.threads = c.threads;
     s->image.environment = environment;
+    s->image.units = units;
   }
   return c;
 }
@@ -397,6 +402,7 @@ std::string resolvedConfigToml(const ExperimentConfig& c, const std::vector<std:
   root.insert("name", c.name);
   if (!c.description.empty()) root.insert("description", c.description);
   root.insert("scene", c.scene);
+  if (!c.runs.front().settings.image.units.empty()) root.insert("units", c.runs.front().settings.image.units);
   const EnvironmentSpec& env = c.runs.front().settings.image.environment;
   if (env.enabled) {
     if (env.map.empty()) root.insert("env", toml::array{env.radiance.r, env.radiance.g, env.radiance.b});
@@ -446,6 +452,7 @@ std::string settingsFingerprint(const RunSettings& s) {
   t.insert_or_assign("height", s.image.height);
   t.insert_or_assign("seed", int64_t(s.image.seed));
   if (s.image.environment.enabled) t.insert_or_assign("environment", s.image.environment.describe());
+  if (!s.image.units.empty()) t.insert_or_assign("units", s.image.units);
   std::ostringstream out;
   out << t;
   return out.str();

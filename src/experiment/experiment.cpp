@@ -53,6 +53,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   for (const ParamSpec& p : s.params.specs()) m[p.metaKey()] = s.params.format(p);
   if (s.image.camera >= 0) m["camera"] = std::to_string(s.image.camera);
   if (s.image.environment.enabled) m["environment"] = s.image.environment.describe();
+  if (!s.image.units.empty()) m["units"] = s.image.units;
   // Then what was done: the samples or passes reached (over the budget parameter, which only
   // said how many were asked for), photon paths traced, the gather radius reached.
   const std::string unit = s.budgetUnit();
@@ -230,6 +231,7 @@ class Experiment {
     GltfLoadOptions load;
     load.environment = c_.runs.front().settings.image.environment;  // every run's and the reference's
     load.readImage = readEnvironmentMap;
+    load.units = c_.runs.front().settings.image.units;
     scene_ = loadGltf(c_.scene, &warnings, load);
     for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     setInterruptCooperative(true);  // from here on an interrupt keeps what is finished (README)

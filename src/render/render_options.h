@@ -27,6 +27,8 @@ struct RenderOptions {
   int camera = -1;
   // The sky (--env, an experiment's env): replaces the file's; read when the scene is loaded.
   EnvironmentSpec environment;
+  // --units radiometric|photometric (GltfLoadOptions::units); empty: as the file says.
+  std::string units;
   // Samples per pixel of the per-pixel and light-side loops (0: until the time budget ends);
   // pass-based integrators count passes in their own parameters.
   int spp = 16;

@@ -108,6 +108,7 @@ class Loader {
     parse();
     scene_ = std::make_unique<Scene>();
     scene_->source = path_;
+    chooseUnits();
     loadMaterials();
     int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
     if (!model_.scenes.empty()) {
@@ -149,6 +150,31 @@ class Loader {
   }
   void warn(const std::string& what) {
     if (warnings_) warnings_->push_back(path_ + ": " + what);
+  }
+
+  // Which units the file's light values are in: --units, else asset.extras.photonlab.units (what
+  // photonlab's scripts write: "radiometric"), else the glTF specification's photometric units.
+  void chooseUnits() {
+    std::string units = options_.units, source = "--units";
+    if (units.empty()) {
+      const tinygltf::Value* ex = photonlabExtras(model_.asset.extras);
+      if (ex && ex->IsObject() && ex->Has("units")) {
+        const tinygltf::Value& u = ex->Get("units");
+        units = u.IsString() ? u.Get<std::string>() : "";
+        source = "asset.extras.photonlab.units";
+        if (units != "radiometric" && units != "photometric")
+          fail(source, "must be \"radiometric\" or \"photometric\"");
+      } else {
+        units = "photometric";
+        source = "the glTF default: the file does not say";
+      }
+    } else if (units != "radiometric" && units != "photometric") {
+      fail("--units", "must be radiometric or photometric, got '" + units + "'");
+    }
+    lightScale_ = units == "photometric" ? 1.0f / kLumensPerWatt : 1.0f;
+    scene_->units = units == "photometric"
+                        ? "photometric (" + source + "): cd, lx and nits divided by 683 lm/W"
+                        : "radiometric (" + source + "): W/sr, W/m2 and W/(m2 sr) as written";
   }
 
   // The sky: the caller's (--env, an experiment's env) over the file's
@@ -404,6 +430,35 @@ class Loader {
         fail(el, "value " + std::to_string(s[i]) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   }
 
+  // A textureInfo's KHR_texture_transform (identity without one). Its texCoord, like the
+  // textureInfo's own, can only name TEXCOORD_0.
+  template <typename Info>
+  UvTransform textureTransform(int material, const Info& info, const std::string& el) {
+    UvTransform t;
+    const tinygltf::Value* ext = extension(info.extensions, "KHR_texture_transform");
+    if (!ext || info.index < 0) return t;
+    const std::string e = el + ".extensions.KHR_texture_transform";
+    if (!ext->IsObject()) fail(e, "must be an object");
+    auto pair = [&](const char* key, Vec2* out) {
+      if (!ext->Has(key)) return;
+      const tinygltf::Value& v = ext->Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        fail(e + "." + key, "must be an array of 2 numbers");
+      *out = Vec2(float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()));
+      if (!isFinite(Vec3(*out, 0.0f))) fail(e + "." + key, "must be finite");
+    };
+    pair("offset", &t.offset);
+    pair("scale", &t.scale);
+    double rotation = 0;
+    if (ext->Has("rotation") && !(getNumber(*ext, "rotation", &rotation) && std::isfinite(rotation)))
+      fail(e + ".rotation", "must be a finite number of radians");
+    t.rotation = float(rotation);
+    double texCoord = 0;
+    if (ext->Has("texCoord") && getNumber(*ext, "texCoord", &texCoord) && texCoord != 0)
+      ignoredInMaterial(material, "KHR_texture_transform.texCoord " + std::to_string(int(texCoord)) + " is ignored; TEXCOORD_0 is used");
+    return t;
+  }
+
   std::shared_ptr<const Image> textureImage(int textureIndex, const std::string& el) {
     if (textureIndex < 0) return nullptr;
     if (textureIndex >= int(model_.textures.size())) fail(el, "texture index out of range");
@@ -501,7 +556,8 @@ class Loader {
     checkRange(el + ".baseColorFactor", baseColor, 0.0f, 1.0f);
     if (pbr.baseColorTexture.index >= 0 && pbr.baseColorTexture.texCoord != 0)
       ignoredInMaterial(index, "baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
-    ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"));
+    ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
+                      textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"));
     float metallic = float(pbr.metallicFactor), roughness = float(pbr.roughnessFactor);
     if (!(metallic >= 0 && metallic <= 1)) fail(el + ".metallicFactor", "must be in [0, 1]");
     if (!(roughness >= 0 && roughness <= 1)) fail(el + ".roughnessFactor", "must be in [0, 1]");
@@ -513,12 +569,13 @@ class Loader {
       emissive = Spectrum(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2]));
     double strength = 1.0;
     if (auto* ext = extension(m.extensions, "KHR_materials_emissive_strength")) getNumber(*ext, "emissiveStrength", &strength);
-    out.emission = emissive * float(strength);
+    out.emission = emissive * float(strength) * lightScale_;  // nits → W/(m²·sr) if photometric
     checkRange(el + ".emission", out.emission, 0.0f, 1e30f);
     if (m.emissiveTexture.index >= 0) {
       if (m.emissiveTexture.texCoord != 0)
         ignoredInMaterial(index, "emissiveTexture uses TEXCOORD_" + std::to_string(m.emissiveTexture.texCoord) + "; TEXCOORD_0 is used");
-      out.emissionTexture = std::make_shared<ColorTexture>(out.emission, textureImage(m.emissiveTexture.index, el + ".emissiveTexture"));
+      out.emissionTexture = std::make_shared<ColorTexture>(out.emission, textureImage(m.emissiveTexture.index, el + ".emissiveTexture"),
+                                                           textureTransform(index, m.emissiveTexture, el + ".emissiveTexture"));
     }
 
     double transmission = 0.0, thickness = 0.0, ior = 1.5;
@@ -643,6 +700,7 @@ class Loader {
     checkRange(el + ".color", color, 0.0f, 1e30f);
     float intensity = float(l.intensity);
     if (!(intensity >= 0 && std::isfinite(intensity))) fail(el + ".intensity", "must be finite and ≥ 0");
+    intensity *= lightScale_;  // cd → W/sr, lx → W/m² if photometric
     Spectrum I = color * intensity;  // W/sr (directional: W/m²)
 
     double power = -1, warn = -1, temperature = 0;
@@ -786,6 +844,7 @@ class Loader {
   std::string path_;
   std::vector<std::string>* warnings_;
   GltfLoadOptions options_;
+  float lightScale_ = 1.0f;  // radiometric per unit of the file's light values
   std::map<std::string, std::pair<std::string, size_t>> ignored_;  // feature: first material, count
   std::vector<std::string> ignoredOrder_;
   const unsigned char* bytes_ = nullptr;

@@ -22,7 +22,14 @@ struct GltfLoadOptions {
   // Reads an environment map's file (the io layer's readEnvironmentMap; without one a map is an
   // error).
   ImageReader readImage;
+  // "radiometric" or "photometric" (--units), or empty: the file's asset.extras.photonlab.units,
+  // and photometric for a file without it (the glTF specification's units; README, Scenes).
+  std::string units;
 };
+
+// Photometric light values (cd, lx, nits) in radiometric units (W/sr, W/m², W/(m²·sr)): divided
+// by the luminous efficacy of 555 nm light, 683 lm/W.
+constexpr float kLumensPerWatt = 683.0f;
 
 // Throws Error("FILE: ELEMENT: what is wrong") on any bad input. Warnings (things ignored or
 // approximated) are appended to `warnings`.

@@ -282,7 +282,8 @@ void checkDocument(const json& doc) {
 const std::vector<std::string>& supportedGltfExtensions() {
   static const std::vector<std::string> names = {"KHR_lights_punctual",       "KHR_materials_emissive_strength",
                                                  "KHR_materials_transmission", "KHR_materials_volume",
-                                                 "KHR_materials_ior",          "KHR_materials_dispersion"};
+                                                 "KHR_materials_ior",          "KHR_materials_dispersion",
+                                                 "KHR_texture_transform"};
   return names;
 }
 

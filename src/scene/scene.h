@@ -98,6 +98,8 @@ class Scene {
   // renders ("automatic" where the file has none).
   const std::vector<FileCamera>& fileCameras() const { return fileCameras_; }
   std::string cameraSource;
+  // The units the file's light values were read in, and why ("radiometric (asset.extras...)").
+  std::string units;
   // Where the environment comes from and what it is ("--env: constant 1, 1, 1 W/(m2 sr)"), or empty.
   std::string environmentSource;
   const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }

@@ -13,10 +13,25 @@ struct Image {
   std::vector<Spectrum> texels;  // linear RGB, row 0 at the top (glTF uv (0,0) is top-left)
 };
 
+// KHR_texture_transform: uv' = T(offset)·R(rotation)·S(scale)·uv, as the extension's GLSL
+// states it: u' = cos·sx·u − sin·sy·v + ox, v' = sin·sx·u + cos·sy·v + oy.
+struct UvTransform {
+  Vec2 offset{0.0f}, scale{1.0f};
+  float rotation = 0.0f;  // radians
+  bool identity() const { return offset == Vec2(0.0f) && scale == Vec2(1.0f) && rotation == 0.0f; }
+  Vec2 apply(const Vec2& uv) const {
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const Vec2 p = scale * uv;
+    return Vec2(c * p.x - s * p.y, s * p.x + c * p.y) + offset;
+  }
+};
+
 class ColorTexture {
  public:
-  ColorTexture(const Spectrum& factor = Spectrum(1.0f), std::shared_ptr<const Image> image = nullptr)
-      : factor_(factor), image_(std::move(image)), spectrum_(image_ ? nullptr : std::make_shared<LazySpectrum>()) {}
+  ColorTexture(const Spectrum& factor = Spectrum(1.0f), std::shared_ptr<const Image> image = nullptr,
+               const UvTransform& transform = {})
+      : factor_(factor), image_(std::move(image)), spectrum_(image_ ? nullptr : std::make_shared<LazySpectrum>()),
+        transform_(transform), transformed_(!transform.identity()) {}
 
   // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h);
   // a constant colour's spectrum is tabulated once.
@@ -29,8 +44,9 @@ class ColorTexture {
     });
     return LazySpectrum::at(table, lambda.lambda);
   }
-  Spectrum evalRGB(const Vec2& uv) const {
+  Spectrum evalRGB(const Vec2& surfaceUV) const {
     if (!image_) return factor_;
+    const Vec2 uv = transformed_ ? transform_.apply(surfaceUV) : surfaceUV;
     // Bilinear lookup with repeat wrapping (the glTF default sampler).
     float x = (uv.x - std::floor(uv.x)) * image_->width - 0.5f;
     float y = (uv.y - std::floor(uv.y)) * image_->height - 0.5f;
@@ -53,6 +69,8 @@ class ColorTexture {
   Spectrum factor_;
   std::shared_ptr<const Image> image_;
   std::shared_ptr<const LazySpectrum> spectrum_;  // shared by copies of a constant texture
+  UvTransform transform_;
+  bool transformed_ = false;
 };
 
 }  // namespace pl
