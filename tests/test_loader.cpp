@@ -612,3 +612,55 @@ TEST_CASE("loader: units - photometric (cd, lx, nits) by default, divided by 683
   bad.doc["asset"]["extras"]["photonlab"]["units"] = "kelvin";
   CHECK_THAT(loadError(bad.write("units-bad.gltf")), Contains("asset.extras.photonlab.units") && Contains("radiometric"));
 }
+
+TEST_CASE("loader: KHR_mesh_quantization - integer positions, normals and texture coordinates dequantised as the spec says") {
+  // The fixture's floor, (−1, 0, −1)–(1, 0, 1), stored quantised: POSITION as unsigned shorts
+  // 0..2 (not normalised) under a node translation of (−1, 0, −1); NORMAL as normalised signed
+  // bytes (0, 127, 0) = (0, 1, 0); TEXCOORD_0 as normalised signed bytes, (127, −128) = (1, −1)
+  // (max(c/127, −1)). Elements padded to 4 bytes, as the extension requires.
+  GltfFixture q;
+  std::vector<uint8_t> bin;
+  auto u16 = [&](uint16_t v) { bin.push_back(uint8_t(v & 255)), bin.push_back(uint8_t(v >> 8)); };
+  const uint16_t corners[4][3] = {{0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}};
+  for (auto& c : corners) u16(c[0]), u16(c[1]), u16(c[2]), u16(0);  // 8-byte stride
+  for (int i = 0; i < 4; ++i) bin.insert(bin.end(), {0, 127, 0, 0});  // normals, 4-byte stride
+  const int8_t uv[4][2] = {{0, 0}, {0, 127}, {127, 127}, {127, -128}};
+  for (auto& t : uv) bin.insert(bin.end(), {uint8_t(t[0]), uint8_t(t[1]), 0, 0});
+  const uint32_t indices[6] = {0, 1, 2, 0, 2, 3};
+  const size_t indexOffset = bin.size();
+  bin.resize(bin.size() + 24);
+  std::memcpy(bin.data() + indexOffset, indices, 24);
+  q.bin = bin;
+  q.doc["buffers"][0]["byteLength"] = bin.size();
+  q.doc["bufferViews"] = {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 32}, {"byteStride", 8}},
+                          {{"buffer", 0}, {"byteOffset", 32}, {"byteLength", 16}, {"byteStride", 4}},
+                          {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 16}, {"byteStride", 4}},
+                          {{"buffer", 0}, {"byteOffset", indexOffset}, {"byteLength", 24}}};
+  q.doc["accessors"] = {
+      {{"bufferView", 0}, {"componentType", 5123}, {"count", 4}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {2, 0, 2}}},
+      {{"bufferView", 1}, {"componentType", 5120}, {"normalized", true}, {"count", 4}, {"type", "VEC3"}},
+      {{"bufferView", 2}, {"componentType", 5120}, {"normalized", true}, {"count", 4}, {"type", "VEC2"}},
+      {{"bufferView", 3}, {"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}}};
+  q.doc["meshes"][0]["primitives"][0]["attributes"] = {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}};
+  q.doc["meshes"][0]["primitives"][0]["indices"] = 3;
+  q.doc["nodes"][0]["translation"] = {-1, 0, -1};
+  q.doc["extensionsUsed"].push_back("KHR_mesh_quantization");
+  q.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+  auto scene = loadGltf(q.write("quantized.gltf"));
+  GltfFixture plain;
+  auto reference = loadGltf(plain.write("quantized-reference.gltf"));
+  REQUIRE(scene->triangleCount() == 2);
+  for (uint32_t t = 0; t < 2; ++t)
+    for (int k = 0; k < 3; ++k) CHECK(scene->trianglePositions(t)[k] == reference->trianglePositions(t)[k]);
+  SurfaceHit hit;
+  // (0.9, −0.9) on the second triangle (corners 0, 2, 3) has barycentrics (0.05, 0.05, 0.9):
+  // uv = 0.05·(0, 0) + 0.05·(1, 1) + 0.9·(1, −1) = (0.95, −0.85).
+  REQUIRE(scene->intersect(Ray{Vec3(0.9f, 1, -0.9f), Vec3(0, -1, 0)}, &hit));
+  CHECK(glm::length(hit.shading.n - Vec3(0, 1, 0)) < 1e-6f);
+  CHECK(hit.uv.x == Approx(0.95f).margin(1e-4));
+  CHECK(hit.uv.y == Approx(-0.85f).margin(1e-4));
+  // Without the extension, integer positions are refused, naming it.
+  q.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  q.doc.erase("extensionsRequired");
+  CHECK_THAT(loadError(q.write("quantized-undeclared.gltf")), Contains("POSITION") && Contains("KHR_mesh_quantization"));
+}

@@ -109,6 +109,8 @@ class Loader {
     scene_ = std::make_unique<Scene>();
     scene_->source = path_;
     chooseUnits();
+    quantized_ = std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(), "KHR_mesh_quantization") !=
+                 model_.extensionsUsed.end();
     loadMaterials();
     int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
     if (!model_.scenes.empty()) {
@@ -292,18 +294,37 @@ class Loader {
   }
 
   // ---------- accessors ----------
-  // Reads accessor `index` as `components` floats per element. Allowed component types are
-  // float and, when `normalizedIntsOk`, normalised unsigned bytes/shorts (texture coordinates).
-  std::vector<float> readFloats(int index, int components, bool normalizedIntsOk, const std::string& what) {
+  // Which integer component types an attribute may have besides float: the core specification's
+  // (texture coordinates: normalised unsigned bytes and shorts) and, in a file that uses
+  // KHR_mesh_quantization, that extension's (POSITION: any byte or short, normalised or not;
+  // NORMAL: normalised signed bytes and shorts; TEXCOORD_0: any byte or short).
+  enum class Attribute { Position, Normal, TexCoord };
+  bool integerAllowed(Attribute a, int ct, bool normalized) const {
+    const bool isUnsigned = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    const bool isSigned = ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT;
+    if (a == Attribute::TexCoord && isUnsigned && normalized) return true;  // core glTF
+    if (!quantized_) return false;
+    switch (a) {
+      case Attribute::Position: return isSigned || isUnsigned;
+      case Attribute::Normal: return isSigned && normalized;
+      case Attribute::TexCoord: return isSigned || isUnsigned;
+    }
+    return false;
+  }
+
+  // Reads accessor `index` as `components` floats per element: floats as stored, integers as
+  // the specification dequantises them (normalised: c/255, c/65535, max(c/127, −1),
+  // max(c/32767, −1); otherwise the integer's value).
+  std::vector<float> readFloats(int index, int components, Attribute attribute, const std::string& what) {
     const tinygltf::Accessor& acc = accessor(index, what);
     std::string el = "accessors[" + std::to_string(index) + "] (" + what + ")";
     if (tinygltf::GetNumComponentsInType(acc.type) != components)
       fail(el, "expected " + std::to_string(components) + " components per element");
     int ct = acc.componentType;
     bool isFloat = ct == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    bool isNorm = normalizedIntsOk && acc.normalized &&
-                  (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-    if (!isFloat && !isNorm) fail(el, "unsupported componentType " + std::to_string(ct));
+    if (!isFloat && !integerAllowed(attribute, ct, acc.normalized))
+      fail(el, "unsupported componentType " + std::to_string(ct) + (acc.normalized ? " (normalized)" : "") +
+                   (quantized_ ? "" : " (integer attributes need KHR_mesh_quantization in extensionsUsed)"));
     const unsigned char* base;
     size_t stride;
     // Validated against the data before anything is allocated from the file's count.
@@ -319,11 +340,19 @@ class Loader {
         if (isFloat) {
           std::memcpy(&v, e + c * compSize, 4);
         } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-          v = e[c] / 255.0f;
-        } else {
+          v = acc.normalized ? e[c] / 255.0f : float(e[c]);
+        } else if (ct == TINYGLTF_COMPONENT_TYPE_BYTE) {
+          int8_t b;
+          std::memcpy(&b, e + c, 1);
+          v = acc.normalized ? std::max(b / 127.0f, -1.0f) : float(b);
+        } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
           uint16_t s;
           std::memcpy(&s, e + c * compSize, 2);
-          v = s / 65535.0f;
+          v = acc.normalized ? s / 65535.0f : float(s);
+        } else {
+          int16_t s;
+          std::memcpy(&s, e + c * compSize, 2);
+          v = acc.normalized ? std::max(s / 32767.0f, -1.0f) : float(s);
         }
         if (!std::isfinite(v)) fail(el, "element " + std::to_string(i) + " is not finite");
         out[i * components + c] = v;
@@ -780,15 +809,15 @@ class Loader {
       }
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(el, "no POSITION attribute");
-      std::vector<float> P = readFloats(pos->second, 3, false, el + ".POSITION");
+      std::vector<float> P = readFloats(pos->second, 3, Attribute::Position, el + ".POSITION");
       size_t n = P.size() / 3;
       std::vector<float> N, T;
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-        N = readFloats(it->second, 3, false, el + ".NORMAL");
+        N = readFloats(it->second, 3, Attribute::Normal, el + ".NORMAL");
         if (N.size() != P.size()) fail(el + ".NORMAL", "count differs from POSITION");
       }
       if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        T = readFloats(it->second, 2, true, el + ".TEXCOORD_0");
+        T = readFloats(it->second, 2, Attribute::TexCoord, el + ".TEXCOORD_0");
         if (T.size() != 2 * n) fail(el + ".TEXCOORD_0", "count differs from POSITION");
       }
       std::vector<uint32_t> idx;
@@ -845,6 +874,7 @@ class Loader {
   std::vector<std::string>* warnings_;
   GltfLoadOptions options_;
   float lightScale_ = 1.0f;  // radiometric per unit of the file's light values
+  bool quantized_ = false;   // the file uses KHR_mesh_quantization: integer attributes allowed
   std::map<std::string, std::pair<std::string, size_t>> ignored_;  // feature: first material, count
   std::vector<std::string> ignoredOrder_;
   const unsigned char* bytes_ = nullptr;

@@ -283,7 +283,7 @@ const std::vector<std::string>& supportedGltfExtensions() {
   static const std::vector<std::string> names = {"KHR_lights_punctual",       "KHR_materials_emissive_strength",
                                                  "KHR_materials_transmission", "KHR_materials_volume",
                                                  "KHR_materials_ior",          "KHR_materials_dispersion",
-                                                 "KHR_texture_transform"};
+                                                 "KHR_texture_transform",      "KHR_mesh_quantization"};
   return names;
 }
 
