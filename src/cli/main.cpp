@@ -196,7 +196,7 @@ int cmdImageInfo(const std::string& imagePath) {
 int cmdInfo(const std::string& scenePath, const std::string& units) {
   std::string ext = fs::path(scenePath).extension().string();
   if (ext == ".exr" || ext == ".png") return cmdImageInfo(scenePath);
-  // Any loadable file: one without lights is described too (a render of it would stop at them).
+  // Any loadable file, with the sky a file without lights gets.
   GltfLoadOptions load;
   load.readImage = readEnvironmentMap;
   load.units = units;
@@ -430,11 +430,11 @@ int main(int argc, char** argv) {
                      "Environment light: R,G,B (or one number) radiance in W/(m2 sr), or an equirectangular map "
                      "(EXR, HDR, PFM; PNG/JPEG are sRGB-decoded); replaces the file's");
   auto* envRotateOpt = render->add_option("--env-rotate", envRotate, "Degrees the --env map turns about +Y");
+  auto* envScaleOpt = render->add_option("--env-scale", envScale, "Factor on the --env radiance");
   render->add_option("--units", options.units,
                      "Light values in the file: radiometric (W/sr, W/m2, W/(m2 sr)) or photometric (cd, lx, nits; /683 lm/W). "
                      "Default: the file's asset.extras.photonlab.units, else photometric")
       ->check(CLI::IsMember({"radiometric", "photometric"}));
-  auto* envScaleOpt = render->add_option("--env-scale", envScale, "Factor on the --env radiance");
   auto* timeOpt = render->add_option("--time", options.timeLimit,
                                      "Time budget in seconds: the render stops when it is spent, wherever it is");
   int64_t seed = 1;

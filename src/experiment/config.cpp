@@ -261,22 +261,21 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
     } else if (key == "run") {
       runNode = &node;
     } else if (key == "env") {
-      // As --env: a radiance (one number, or [r, g, b]) or a map file relative to this config.
-      try {
-        if (node.is_string()) {
+      // As --env: a radiance (one number, or [r, g, b]) or, as text, what --env takes (a map file
+      // relative to this config).
+      if (node.is_string()) {
+        try {
           environment = parseEnvironment(p.string(node, key), key);
-          if (!environment.map.empty()) environment.map = p.resolvePath(node, key);
-        } else if (const toml::array* a = node.as_array(); a && a->size() == 3) {
-          environment = parseEnvironment(formatNumber(p.number((*a)[0], key, 0, 1e30, true)) + "," +
-                                             formatNumber(p.number((*a)[1], key, 0, 1e30, true)) + "," +
-                                             formatNumber(p.number((*a)[2], key, 0, 1e30, true)),
-                                         key);
-        } else {
-          environment = parseEnvironment(formatNumber(p.number(node, key, 0, 1e30, true)), key);
+        } catch (const Error& e) {  // "env: what is wrong", said with the line
+          p.fail(&node, key, std::string(e.what()).substr(key.size() + 2));
         }
-      } catch (const Error& e) {
-        if (std::string(e.what()).rfind(key + ":", 0) == 0) p.fail(&node, key, std::string(e.what()).substr(key.size() + 2));
-        throw;
+        if (!environment.map.empty()) environment.map = p.resolvePath(node, key);
+      } else {
+        const toml::array* a = node.as_array();
+        if (a && a->size() != 3) p.fail(&node, key, "must be one number, [r, g, b], or text as --env takes");
+        auto channel = [&](size_t i) { return float(p.number(a ? (*a)[i] : node, key, 0, 1e30, true)); };
+        environment.enabled = true;
+        environment.radiance = a ? Spectrum(channel(0), channel(1), channel(2)) : Spectrum(channel(0));
       }
     } else if (key == "units") {
       units = p.string(node, key);

@@ -290,43 +290,43 @@ class VertexConnectionMerging::Tracer {
   void emission(const SurfaceHit& hit, const Vec3& wo, const SubPath& path, Sink& sink) const {
     Spectrum Le = hit.light->L(hit.uv, wo, path.lambda);
     if (isBlack(Le)) return;
-    const int t = path.length + 1;
-    float mis;
-    if (o_.connect) {
-      const float pick = scene_.lightDistribution().pmf(size_t(hit.lightIndex));
-      float pdfPos, pdfDir;
-      hit.light->pdfLe(Ray{hit.p, wo}, hit.ng, &pdfPos, &pdfDir);
-      const float directPdfA = pick * pdfPos, emissionPdfW = pick * pdfPos * pdfDir;
-      mis = 1.0f / (1.0f + Mis(directPdfA) * path.dVCM + Mis(emissionPdfW) * path.dVC);
-    } else {
-      mis = path.specular ? 1.0f : 0.0f;
-    }
-    const float w = weigh(0, t, mis);
-    if (w != 0) sink.add(strategyIndex(0, t), path.beta * Le * w);
+    float pdfPos = 0, pdfDir = 0;
+    if (o_.connect) hit.light->pdfLe(Ray{hit.p, wo}, hit.ng, &pdfPos, &pdfDir);
+    addEmission(Le, scene_.lightDistribution().pmf(size_t(hit.lightIndex)), pdfPos, pdfPos, pdfDir, false, path, sink);
   }
 
   // s = 0 with the sky: the camera ray left the scene. Its rivals as an emitter's, in the sky's
   // measures (SmallVCM's background light): next-event estimation picks the direction with
   // solid-angle density pick·p(ω), and the path's partial sums are still in solid angle at the
-  // last vertex (no hit completed them); emission starts on the bounding disc, cosine 1.
+  // last vertex (no hit completed them); emission starts on the bounding disc, cosine 1. Seen
+  // directly it is the only technique: no light path reaches the camera from the sky (no (1, 1)).
   void background(const SubPath& path, Sink& sink) const {
     const EnvironmentLight& sky = *scene_.environment();
     const Vec3 d = path.ray.d;
     Spectrum Le = sky.radiance(d, path.lambda);
     if (isBlack(Le)) return;
-    const int t = path.length + 1;
+    float pdfPos = 0, pdfDir = 0;
+    if (o_.connect) sky.pdfLe(Ray{path.ray.o, -d}, Vec3(0.0f), &pdfPos, &pdfDir);
+    addEmission(Le, scene_.lightDistribution().pmf(size_t(scene_.environmentIndex())), pdfDir, pdfPos, pdfDir,
+                path.length == 1, path, sink);
+  }
+
+  // Emission Le found by the camera path (s = 0, t = length + 1), weighed against next-event
+  // estimation choosing the emitter's point (or the sky's direction) with density pick·directPdf
+  // and the light subpath emitting it with pick·pdfPos·pdfDir (eqs. 42–43); `alone`: no other
+  // technique makes this path.
+  void addEmission(const Spectrum& Le, float pick, float directPdf, float pdfPos, float pdfDir, bool alone,
+                   const SubPath& path, Sink& sink) const {
     float mis;
-    if (path.length == 1) {
-      mis = 1.0f;  // the sky seen directly: no light path reaches the camera from it (no (1, 1))
+    if (alone) {
+      mis = 1.0f;
     } else if (o_.connect) {
-      const float pick = scene_.lightDistribution().pmf(size_t(scene_.environmentIndex()));
-      float pdfPos, pdfDir;
-      sky.pdfLe(Ray{path.ray.o, -d}, Vec3(0.0f), &pdfPos, &pdfDir);
-      const float directPdfW = pick * pdfDir, emissionPdfW = pick * pdfPos * pdfDir;
-      mis = 1.0f / (1.0f + Mis(directPdfW) * path.dVCM + Mis(emissionPdfW) * path.dVC);
+      const float directPdfA = pick * directPdf, emissionPdfW = pick * pdfPos * pdfDir;
+      mis = 1.0f / (1.0f + Mis(directPdfA) * path.dVCM + Mis(emissionPdfW) * path.dVC);
     } else {
       mis = path.specular ? 1.0f : 0.0f;
     }
+    const int t = path.length + 1;
     const float w = weigh(0, t, mis);
     if (w != 0) sink.add(strategyIndex(0, t), path.beta * Le * w);
   }

@@ -108,9 +108,10 @@ inline Spectrum escapedRadiance(const Scene& scene, const Vec3& direction, const
                                 bool specularBounce, float bsdfPdf) {
   const EnvironmentLight* env = scene.environment();
   if (!env) return Spectrum(0.0f);
-  Spectrum Le = env->radiance(direction, lambda);
+  float pdf;
+  Spectrum Le = env->radiance(direction, lambda, &pdf);
   if (specularBounce || isBlack(Le)) return Le;
-  float lightPdf = scene.lightDistribution().pmf(size_t(scene.environmentIndex())) * env->pdf(direction);
+  float lightPdf = scene.lightDistribution().pmf(size_t(scene.environmentIndex())) * pdf;
   return Le * powerHeuristic(bsdfPdf, lightPdf);
 }
 

@@ -71,10 +71,14 @@ std::pair<int, int> EnvironmentLight::texel(const Vec3& d) const {
   return {std::max(i, 0), std::max(j, 0)};
 }
 
-Spectrum EnvironmentLight::radiance(const Vec3& d, const SampledWavelengths& lambda) const {
-  if (map_.width == 1 && map_.height == 1) return emit(map_.at(0, 0), lambda);  // one colour: its spectrum cached
+Spectrum EnvironmentLight::radiance(const Vec3& d, const SampledWavelengths& lambda, float* pdf) const {
+  if (map_.width == 1 && map_.height == 1) {  // one colour: its spectrum cached
+    if (pdf) *pdf = luminance(map_.at(0, 0)) * inverseLuminanceIntegral_;
+    return emit(map_.at(0, 0), lambda);
+  }
   auto [i, j] = texel(d);
   Spectrum L = map_.at(i, j);
+  if (pdf) *pdf = luminance(L) * inverseLuminanceIntegral_;
   return lambda.spectral ? spectralEmission(L, lambda) : L;
 }
 

@@ -50,8 +50,9 @@ class EnvironmentLight final : public Light {
   void preprocess(const Vec3& center, float radius) override;
   const char* name() const override { return "environment"; }
 
-  // Radiance arriving along −d: what a ray escaping the scene in direction d (unit) sees.
-  Spectrum radiance(const Vec3& d, const SampledWavelengths& lambda) const;
+  // Radiance arriving along −d: what a ray escaping the scene in direction d (unit) sees; with
+  // `pdf`, also pdf(d) from the same texel lookup.
+  Spectrum radiance(const Vec3& d, const SampledWavelengths& lambda, float* pdf = nullptr) const;
   // Solid-angle density of sampleDirection() (and of sampleLi) for the unit direction d.
   float pdf(const Vec3& d) const;
   // A direction towards the sky by the texel distribution; its density in *pdf.

@@ -481,7 +481,7 @@ class Loader {
     double rotation = 0;
     if (ext->Has("rotation") && !(getNumber(*ext, "rotation", &rotation) && std::isfinite(rotation)))
       fail(e + ".rotation", "must be a finite number of radians");
-    t.rotation = float(rotation);
+    t.setRotation(float(rotation));
     double texCoord = 0;
     if (ext->Has("texCoord") && getNumber(*ext, "texCoord", &texCoord) && texCoord != 0)
       ignoredInMaterial(material, "KHR_texture_transform.texCoord " + std::to_string(int(texCoord)) + " is ignored; TEXCOORD_0 is used");

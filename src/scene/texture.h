@@ -17,12 +17,12 @@ struct Image {
 // states it: u' = cos·sx·u − sin·sy·v + ox, v' = sin·sx·u + cos·sy·v + oy.
 struct UvTransform {
   Vec2 offset{0.0f}, scale{1.0f};
-  float rotation = 0.0f;  // radians
-  bool identity() const { return offset == Vec2(0.0f) && scale == Vec2(1.0f) && rotation == 0.0f; }
+  float cosRotation = 1.0f, sinRotation = 0.0f;  // of the rotation, radians (setRotation)
+  void setRotation(float radians) { cosRotation = std::cos(radians), sinRotation = std::sin(radians); }
+  bool identity() const { return offset == Vec2(0.0f) && scale == Vec2(1.0f) && cosRotation == 1.0f && sinRotation == 0.0f; }
   Vec2 apply(const Vec2& uv) const {
-    const float c = std::cos(rotation), s = std::sin(rotation);
     const Vec2 p = scale * uv;
-    return Vec2(c * p.x - s * p.y, s * p.x + c * p.y) + offset;
+    return Vec2(cosRotation * p.x - sinRotation * p.y, sinRotation * p.x + cosRotation * p.y) + offset;
   }
 };
 
