@@ -11,7 +11,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 differ=0 compared=0
-for scene in "$root"/scenes/*.gltf; do
+# SCENES="a.gltf b.gltf" compares other files (a variant with the material a change touches).
+for scene in ${SCENES:-"$root"/scenes/*.gltf}; do
   name=$(basename "$scene" .gltf)
   for integrator in direct whitted path photon ppm sppm pppm light bdpt bpm vcm guided; do
     case $integrator in
