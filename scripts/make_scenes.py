@@ -68,6 +68,10 @@ class Gltf:
             if dispersion is not None:
                 ext["KHR_materials_dispersion"] = {"dispersion": dispersion}
                 self.extensions.add("KHR_materials_dispersion")
+        if metallic == 0.0 and glass_ior is None and not (extras and "phong" in extras):
+            # A diffuse wall here is Lambertian, f = base/π: the closed forms assume it. Without
+            # this marker glTF's metallic-roughness material adds its 4 % specular layer.
+            extras = dict(extras or {}, bsdf="lambertian")
         if extras:
             m["extras"] = {"photonlab": extras}
         self.doc["materials"].append(m)

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "bsdfs/ggx_conductor.h"
+#include "bsdfs/metallic_roughness.h"
 #include "bsdfs/phong.h"
 #include "integrator_helpers.h"
 #include "integrators/bidirectional.h"
@@ -264,14 +265,17 @@ TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glos
   // MIS weights sum to 1 over the techniques only if every technique computes the same pdf
   // ratios, forward and reverse; a wrong reverse density of a glossy lobe biases the sum. A
   // small room: a modified-Phong floor (SmallVCM's: kd 0.1, ks 0.7, n = 90), a rough GGX metal
-  // back wall (α = 0.3), a diffuse left wall, lit by an area light under the ceiling, which
+  // back wall (α = 0.3), a metallic-roughness left wall, lit by an area light under the ceiling, which
   // every technique can reach. 32×32 pixels, regions of 8×8, seeds 1 and 2, 256 samples or
   // iterations: every |z| < 4, mean z² < 3, means within 1.5%.
   Scene scene;
   uint32_t floor = scene.addMaterial({"phong", std::make_unique<Phong>(Spectrum(0.1f), Spectrum(0.7f), 90.0f), Spectrum(0), false});
   uint32_t metal = scene.addMaterial({"ggx", std::make_unique<GGXConductor>(ColorTexture(Spectrum(0.9f, 0.6f, 0.3f)), 0.3f),
                                       Spectrum(0), false});
-  uint32_t wall = lambertian(scene, 0.6f);
+  // The left wall: glTF's metallic-roughness mix (metallic 0.3, roughness 0.5), both lobes at once.
+  uint32_t wall = scene.addMaterial({"metallic-roughness", std::make_unique<MetallicRoughness>(ColorTexture(Spectrum(0.6f, 0.5f, 0.4f)),
+                                                                                            ColorTexture(Spectrum(1, 0.5f, 0.3f))),
+                                     Spectrum(0), false});
   uint32_t light = scene.addMaterial({"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))), Spectrum(8.0f), false});
   addQuad(scene, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, floor);
   addQuad(scene, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, metal);

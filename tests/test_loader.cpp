@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "bsdfs/metallic_roughness.h"
+
 #include <algorithm>
 #include <functional>
 
@@ -86,28 +88,41 @@ TEST_CASE("loader: material mapping and KHR_materials_* defaults") {
   GltfFixture f;
   json& mats = f.doc["materials"];
   mats = json::array();
-  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});                               // 0 lambertian
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});                               // 0 dielectric mix
   mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}});      // 1 mirror
   mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 1.0}, {"roughnessFactor", 0.4}}}});      // 2 ggx
   mats.push_back({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},         // 3 glass
                                   {"KHR_materials_volume", {{"thicknessFactor", 0.1}}}}}});
-  mats.push_back({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}},      // 4 thin: lambertian
+  mats.push_back({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}},      // 4 thin: opaque
                   {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
   mats.push_back({{"extras", {{"photonlab", {{"phong", {{"kd", 0.3}, {"ks", {0.5, 0.5, 0.5}}, {"exponent", 30}}}}}}}});  // 5
   mats.push_back({{"emissiveFactor", {1.0, 0.5, 0.25}},                                                 // 6 emitter
                   {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 8.0}}}}},
                   {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
-  for (int i = 0; i < 7; ++i) f.doc["meshes"][0]["primitives"].push_back(
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},                                 // 7 lambertian
+                  {"extras", {{"photonlab", {{"bsdf", "lambertian"}}}}}});
+  mats.push_back({{"pbrMetallicRoughness", {{"metallicFactor", 0.5}, {"roughnessFactor", 0.3}}}});      // 8 mix
+  for (int i = 0; i < 9; ++i) f.doc["meshes"][0]["primitives"].push_back(
       {{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", i}});
   auto scene = loadGltf(f.write("materials.gltf"));
   const auto& m = scene->materials();
-  CHECK(std::string(m[0].bsdf->name()) == "lambertian");
+  CHECK(std::string(m[0].bsdf->name()) == "metallic-roughness");  // the specification's 4 % specular layer
   CHECK(std::string(m[1].bsdf->name()) == "mirror");
   CHECK(std::string(m[2].bsdf->name()) == "ggx");
   CHECK(std::string(m[3].bsdf->name()) == "dielectric");
   CHECK(static_cast<const Dielectric*>(m[3].bsdf.get())->eta() == Approx(1.5f));  // KHR_materials_ior default
-  CHECK(std::string(m[4].bsdf->name()) == "lambertian");
+  CHECK(std::string(m[4].bsdf->name()) == "metallic-roughness");
   CHECK(std::string(m[5].bsdf->name()) == "phong");
+  CHECK(std::string(m[7].bsdf->name()) == "lambertian");
+  CHECK(std::string(m[8].bsdf->name()) == "metallic-roughness");
+  // The Lambertian marker is only for diffuse materials; anything else is an error naming it.
+  GltfFixture bad;
+  bad.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.5;
+  CHECK_THAT(loadError(bad.write("lambertian-metal.gltf")),
+             Contains("materials[0].extras.photonlab.bsdf: \"lambertian\" needs metallicFactor 0"));
+  bad.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.0;
+  bad.doc["materials"][0]["extras"]["photonlab"]["bsdf"] = "ggx";
+  CHECK_THAT(loadError(bad.write("unknown-bsdf.gltf")), Contains("materials[0].extras.photonlab.bsdf: must be \"lambertian\""));
   CHECK(m[6].emission.r == Approx(8.0f));
   CHECK(m[6].emission.b == Approx(2.0f));
   // Emissive triangles became area lights: Φ = π·Le·A per face, A = 4 m².
@@ -530,6 +545,29 @@ TEST_CASE("loader: grey-scale and 16-bit PNG textures decode to the sRGB values 
   CHECK(albedoAt(*greyAlpha, -0.5f).b == Approx(0.50288).epsilon(1e-3));
 }
 
+TEST_CASE("loader: metallicRoughnessTexture is linear - G roughness, B metallic, times the factors") {
+  // One 2×1 RGB PNG used twice: as baseColorTexture (sRGB) and as metallicRoughnessTexture
+  // (linear data). Left texel (0, 128, 0): roughness 128/255 = 0.50196, metallic 0, base
+  // sRGB⁻¹(128/255) = ((0.50196 + 0.055)/1.055)^2.4 = 0.21586 green. Right texel (0, 64, 255)
+  // with metallicFactor 0.5: roughness 64/255 = 0.25098, metallic 0.5.
+  GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 2, 8, {0, 128, 0, 0, 64, 255})));
+  f.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}},
+                                                     {"metallicRoughnessTexture", {{"index", 0}}},
+                                                     {"metallicFactor", 0.5}}}};
+  auto scene = loadGltf(f.write("metallic-roughness-texture.gltf"));
+  const BSDF& bsdf = *scene->materials()[0].bsdf;
+  REQUIRE(std::string(bsdf.name()) == "metallic-roughness");
+  MetallicRoughness left(ColorTexture(Spectrum(0, 0.21586f, 0)), ColorTexture(Spectrum(1, 0.50196f, 0)));
+  MetallicRoughness right(ColorTexture(Spectrum(0, 0.051269f, 1)), ColorTexture(Spectrum(1, 0.25098f, 0.5f)));
+  Vec3 a = glm::normalize(Vec3(0.3f, 0.1f, 0.9f)), b = glm::normalize(Vec3(-0.5f, 0.2f, 0.6f));
+  Spectrum l = bsdf.eval(a, b, Vec2(0.25f, 0.5f)), L = left.eval(a, b, Vec2(0));
+  Spectrum r = bsdf.eval(a, b, Vec2(0.75f, 0.5f)), R = right.eval(a, b, Vec2(0));
+  for (int c = 0; c < 3; ++c) {
+    CHECK(l[c] == Approx(L[c]).epsilon(2e-3));
+    CHECK(r[c] == Approx(R[c]).epsilon(2e-3));
+  }
+}
+
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {
   GltfFixture d;
   d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
@@ -538,13 +576,16 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
              Contains("extensionsRequired[1]: KHR_draco_mesh_compression is required by the file and photonlab does not implement it"));
   GltfFixture m;
   m.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // implemented: loads
-  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_variants"};
+  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_variants",
+                            "KHR_materials_transmission"};
   m.doc["materials"][0]["name"] = "seat";
+  m.doc["materials"][0].erase("extras");  // the specification's material, not the fixture's Lambertian
   m.doc["materials"][0]["extensions"] = {{"KHR_materials_sheen", json::object()}, {"KHR_materials_clearcoat", json::object()}};
-  m.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.5;
+  m.doc["materials"][0]["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 0.5}};
   for (int i = 0; i < 3; ++i)
-    m.doc["materials"].push_back({{"extensions", {{"KHR_materials_sheen", json::object()}}},
-                                  {"pbrMetallicRoughness", {{"metallicFactor", 0.5}}}});
+    m.doc["materials"].push_back({{"extensions", {{"KHR_materials_sheen", json::object()},
+                                                  {"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}}},
+                                  {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
   std::vector<std::string> warnings;
   loadGltf(m.write("ignored.gltf"), &warnings);
   auto count = [&](const std::string& text) {
@@ -556,8 +597,8 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   CHECK(count("extensionsUsed: KHR_materials_variants is not implemented: ignored") == 1);
   CHECK(count("KHR_lights_punctual") == 0);
   // The loader's own approximations are said the same way: once for the four materials.
-  CHECK(count("materials[0] 'seat' (and 3 more): metallicFactor between 0 and 1 is rendered as Lambertian") == 1);
-  CHECK(count("metallicFactor") == 1);
+  CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered opaque") == 1);
+  CHECK(count("KHR_materials_transmission") == 1);
 }
 
 TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - looked up by TEXCOORD_0") {

@@ -17,6 +17,7 @@
 #include "bsdfs/dielectric.h"
 #include "bsdfs/ggx_conductor.h"
 #include "bsdfs/lambertian.h"
+#include "bsdfs/metallic_roughness.h"
 #include "bsdfs/mirror.h"
 #include "bsdfs/phong.h"
 #include "lights/directional_light.h"
@@ -488,13 +489,16 @@ class Loader {
     return t;
   }
 
-  std::shared_ptr<const Image> textureImage(int textureIndex, const std::string& el) {
+  // Colour textures (base colour, emission) are sRGB-encoded; data textures (metallic-roughness)
+  // are linear, so they are decoded with `srgb` false.
+  std::shared_ptr<const Image> textureImage(int textureIndex, const std::string& el, bool srgb = true) {
     if (textureIndex < 0) return nullptr;
     if (textureIndex >= int(model_.textures.size())) fail(el, "texture index out of range");
     int src = model_.textures[textureIndex].source;
     if (src < 0 || src >= int(model_.images.size())) fail(el, "texture has no valid image source");
-    auto cached = images_.find(src);
-    if (cached != images_.end()) return cached->second;
+    auto& cache = srgb ? images_ : linearImages_;
+    auto cached = cache.find(src);
+    if (cached != cache.end()) return cached->second;
     const tinygltf::Image& im = model_.images[src];
     // tinygltf hands over 8- or 16-bit samples (16-bit PNGs keep their depth), 1 to 4 per texel
     // (it expands to RGBA unless asked not to); grey, with or without alpha, is every channel.
@@ -513,9 +517,12 @@ class Loader {
     image->width = im.width;
     image->height = im.height;
     image->texels.resize(size_t(im.width) * im.height);
-    for (size_t i = 0; i < image->texels.size(); ++i)  // sRGB-encoded texels
-      for (int c = 0; c < 3; ++c) image->texels[i][c] = srgbDecode(sample(i, channels >= 3 ? c : 0));
-    images_[src] = image;
+    for (size_t i = 0; i < image->texels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        float v = sample(i, channels >= 3 ? c : 0);
+        image->texels[i][c] = srgb ? srgbDecode(v) : v;
+      }
+    cache[src] = image;
     return image;
   }
 
@@ -590,7 +597,9 @@ class Loader {
     float metallic = float(pbr.metallicFactor), roughness = float(pbr.roughnessFactor);
     if (!(metallic >= 0 && metallic <= 1)) fail(el + ".metallicFactor", "must be in [0, 1]");
     if (!(roughness >= 0 && roughness <= 1)) fail(el + ".roughnessFactor", "must be in [0, 1]");
-    if (pbr.metallicRoughnessTexture.index >= 0) ignoredInMaterial(index, "metallicRoughnessTexture is ignored (factors are used)");
+    if (pbr.metallicRoughnessTexture.index >= 0 && pbr.metallicRoughnessTexture.texCoord != 0)
+      ignoredInMaterial(index, "metallicRoughnessTexture uses TEXCOORD_" + std::to_string(pbr.metallicRoughnessTexture.texCoord) + "; TEXCOORD_0 is used");
+    const bool mrTextured = pbr.metallicRoughnessTexture.index >= 0;
 
     // Emission: emissiveFactor × KHR_materials_emissive_strength, radiance in W/(m²·sr).
     Spectrum emissive(0.0f);
@@ -621,6 +630,15 @@ class Loader {
     }
 
     const tinygltf::Value* extras = photonlabExtras(m.extras);
+    // extras.photonlab.bsdf = "lambertian": f = baseColor/π, without the specification's 4 %
+    // specular layer (what photonlab's own scenes and closed-form tests mean by a diffuse wall).
+    bool lambertian = false;
+    if (extras && extras->IsObject() && extras->Has("bsdf")) {
+      const tinygltf::Value& b = extras->Get("bsdf");
+      if (!b.IsString() || b.Get<std::string>() != "lambertian") fail(el + ".extras.photonlab.bsdf", "must be \"lambertian\"");
+      if (metallic != 0 || mrTextured) fail(el + ".extras.photonlab.bsdf", "\"lambertian\" needs metallicFactor 0 and no metallicRoughnessTexture");
+      lambertian = true;
+    }
     if (extras && extras->IsObject() && extras->Has("phong")) {
       const tinygltf::Value& ph = extras->Get("phong");
       std::string pel = el + ".extras.photonlab.phong";
@@ -635,14 +653,18 @@ class Loader {
       out.bsdf = std::make_unique<Phong>(kd, ks, n);
     } else if (transmission > 0 && thickness > 0) {
       out.bsdf = std::make_unique<Dielectric>(float(ior), dispersion > 0 ? float(20.0 / dispersion) : 0.0f);
-    } else if (metallic == 1.0f && roughness == 0.0f) {
-      out.bsdf = std::make_unique<Mirror>(base);
-    } else if (metallic == 1.0f) {
-      out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);
-    } else {
-      if (transmission > 0) ignoredInMaterial(index, "KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered as Lambertian");
-      if (metallic > 0) ignoredInMaterial(index, "metallicFactor between 0 and 1 is rendered as Lambertian");
+    } else if (lambertian) {
       out.bsdf = std::make_unique<Lambertian>(base);
+    } else if (metallic == 1.0f && roughness == 0.0f && !mrTextured) {
+      out.bsdf = std::make_unique<Mirror>(base);  // the metal lobe's limit α → 0, a delta
+    } else if (metallic == 1.0f && !mrTextured) {
+      out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);  // = the metal lobe alone
+    } else {
+      if (transmission > 0) ignoredInMaterial(index, "KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered opaque");
+      ColorTexture mr(Spectrum(1.0f, roughness, metallic),
+                      textureImage(pbr.metallicRoughnessTexture.index, el + ".metallicRoughnessTexture", false),
+                      textureTransform(index, pbr.metallicRoughnessTexture, el + ".metallicRoughnessTexture"));
+      out.bsdf = std::make_unique<MetallicRoughness>(base, std::move(mr));
     }
     return out;
   }
@@ -883,6 +905,7 @@ class Loader {
   std::unique_ptr<Scene> scene_;
   uint32_t defaultMaterial_ = 0;
   std::map<int, std::shared_ptr<const Image>> images_;
+  std::map<int, std::shared_ptr<const Image>> linearImages_;  // the same images undecoded (data textures)
 };
 
 }  // namespace

@@ -1,0 +1,153 @@
+#include "bsdfs/metallic_roughness.h"
+
+#include <array>
+
+#include "core/sampling.h"
+#include "optics/optics.h"
+
+namespace pl {
+
+namespace {
+
+constexpr float kDielectricF0 = 0.04f;  // (η − 1)² / (η + 1)² for glTF's η = 1.5
+
+float schlick(float F0, float cosTheta) {
+  float m = std::clamp(1.0f - std::abs(cosTheta), 0.0f, 1.0f);
+  return F0 + (1.0f - F0) * (m * m) * (m * m) * m;
+}
+
+// E(μ, roughness) on nodes μ_j = j/(nMu − 1), roughness_k = k/(nRough − 1). Each node by a
+// deterministic 96 × 96 midpoint rule over the sample square of the D(m) cosθm sampler, whose
+// estimand f cosθi / pdf = F(wo·m) G1(wo) G1(wi) (wo·m) / (cosθo cosθm) is smooth for every α,
+// so the same rule serves the sharp lobes. ~9 M evaluations, once, on first use.
+struct AlbedoTable {
+  static constexpr int nMu = 32, nRough = 32;
+  std::array<std::array<float, nMu>, nRough> E;
+  std::array<float, nRough> average;
+
+  AlbedoTable() {
+    const int n = 96;
+    for (int k = 0; k < nRough; ++k) {
+      float roughness = float(k) / (nRough - 1);
+      GGX ggx{std::max(roughness * roughness, MetallicRoughness::kMinAlpha)};
+      for (int j = 0; j < nMu; ++j) {
+        float mu = std::max(float(j) / (nMu - 1), 1e-3f);  // μ = 0 itself is degenerate
+        Vec3 wo(std::sqrt(1 - mu * mu), 0.0f, mu);
+        double sum = 0;
+        for (int a = 0; a < n; ++a)
+          for (int b = 0; b < n; ++b) {
+            Vec3 m = ggx.sampleNormal(Vec2((a + 0.5f) / n, (b + 0.5f) / n));
+            float om = glm::dot(wo, m);
+            if (om <= 0) continue;
+            Vec3 wi = reflect(wo, m);
+            if (wi.z <= 0) continue;
+            sum += schlick(kDielectricF0, om) * ggx.G1(wo) * ggx.G1(wi) * om / (mu * m.z);
+          }
+        E[k][j] = float(std::min(1.0, sum / (n * n)));
+      }
+      // 2∫₀¹ E(μ) μ dμ exactly for E linear between nodes: on [a, b] with E = Ea + s (μ − a),
+      // ∫ E μ dμ = Ea (b² − a²)/2 + s ((b³ − a³)/3 − a (b² − a²)/2).
+      double avg = 0;
+      for (int j = 0; j + 1 < nMu; ++j) {
+        double a = double(j) / (nMu - 1), b = double(j + 1) / (nMu - 1);
+        double slope = (E[k][j + 1] - E[k][j]) / (b - a);
+        avg += E[k][j] * (b * b - a * a) / 2 + slope * ((b * b * b - a * a * a) / 3 - a * (b * b - a * a) / 2);
+      }
+      average[k] = float(2 * avg);
+    }
+  }
+  static const AlbedoTable& get() {
+    static const AlbedoTable table;  // thread-safe initialisation
+    return table;
+  }
+};
+
+// Linear weights of x ∈ [0, 1] on n nodes.
+void lerpNodes(float x, int n, int* i0, float* t) {
+  float f = std::clamp(x, 0.0f, 1.0f) * (n - 1);
+  *i0 = std::min(int(f), n - 2);
+  *t = f - *i0;
+}
+
+}  // namespace
+
+float MetallicRoughness::specularAlbedo(float cosTheta, float roughness) {
+  const AlbedoTable& table = AlbedoTable::get();
+  int j, k;
+  float tj, tk;
+  lerpNodes(std::abs(cosTheta), AlbedoTable::nMu, &j, &tj);
+  lerpNodes(roughness, AlbedoTable::nRough, &k, &tk);
+  auto row = [&](int r) { return (1 - tj) * table.E[r][j] + tj * table.E[r][j + 1]; };
+  return (1 - tk) * row(k) + tk * row(k + 1);
+}
+
+float MetallicRoughness::specularAlbedoAverage(float roughness) {
+  const AlbedoTable& table = AlbedoTable::get();
+  int k;
+  float tk;
+  lerpNodes(roughness, AlbedoTable::nRough, &k, &tk);
+  return (1 - tk) * table.average[k] + tk * table.average[k + 1];
+}
+
+MetallicRoughness::Point MetallicRoughness::at(const Vec2& uv) const {
+  Spectrum mr = metallicRoughness_.evalRGB(uv);
+  float roughness = std::clamp(mr.g, 0.0f, 1.0f), metallic = std::clamp(mr.b, 0.0f, 1.0f);
+  return {GGX{std::max(roughness * roughness, kMinAlpha)}, roughness, metallic};
+}
+
+Spectrum MetallicRoughness::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
+  Vec3 o = wo, i = wi;
+  if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
+  const Point p = at(c.uv);
+  const Spectrum rho = baseColor_.eval(c.uv, *c.lambda);
+  Vec3 m = glm::normalize(o + i);
+  float om = glm::dot(o, m);
+  float microfacet = p.ggx.D(m) * p.ggx.G1(o) * p.ggx.G1(i) / (4.0f * o.z * i.z);
+  Spectrum F = (1 - p.metallic) * Spectrum(schlick(kDielectricF0, om)) + p.metallic * fresnelSchlick(rho, om);
+  Spectrum f = F * microfacet;
+  if (p.metallic < 1) {
+    float Eo = specularAlbedo(o.z, p.roughness), Ei = specularAlbedo(i.z, p.roughness);
+    float norm = 1 - specularAlbedoAverage(p.roughness);
+    if (norm > 0) f += (1 - p.metallic) * rho * (kInvPi * (1 - Eo) * (1 - Ei) / norm);
+  }
+  return f;
+}
+
+// The specular lobe's share of the sampling: its albedo estimate over the total. The
+// dielectric's is exact (E(μo) and ρ(1 − E(μo))); the metal's is approximated by the mean of
+// its F0, at least 0.04 so a black metal still samples its grazing Fresnel reflection.
+float MetallicRoughness::specularProbability(const Point& p, const Vec2& uv, float cosThetaO) const {
+  Spectrum rho = baseColor_.evalRGB(uv);
+  float mean = (rho.r + rho.g + rho.b) / 3.0f;
+  float E = specularAlbedo(cosThetaO, p.roughness);
+  float specular = (1 - p.metallic) * E + p.metallic * std::max(mean, kDielectricF0);
+  float diffuse = (1 - p.metallic) * mean * (1 - E);
+  return specular + diffuse > 0 ? specular / (specular + diffuse) : 1.0f;
+}
+
+float MetallicRoughness::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
+  Vec3 o = wo, i = wi;
+  if (!flipToUpperHemisphere(o, i)) return 0.0f;
+  const Point p = at(c.uv);
+  float ps = specularProbability(p, c.uv, o.z);
+  return ps * p.ggx.pdfReflection(o, i) + (1 - ps) * pdfCosineHemisphere(i);
+}
+
+bool MetallicRoughness::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const {
+  Vec3 o = wo;
+  if (o.z == 0) return false;
+  if (o.z < 0) o.z = -o.z;
+  const Point p = at(c.uv);
+  float ps = specularProbability(p, c.uv, o.z);
+  Vec3 wi = uc < ps ? reflect(o, p.ggx.sampleNormal(u)) : sampleCosineHemisphere(u);
+  if (wi.z <= 0) return false;
+  s->pdf = ps * p.ggx.pdfReflection(o, wi) + (1 - ps) * pdfCosineHemisphere(wi);
+  if (!(s->pdf > 0)) return false;
+  s->weight = eval(o, wi, c) * wi.z / s->pdf;
+  if (wo.z < 0) wi.z = -wi.z;
+  s->wi = wi;
+  s->delta = false;
+  return true;
+}
+
+}  // namespace pl

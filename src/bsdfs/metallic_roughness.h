@@ -1,0 +1,53 @@
+#pragma once
+#include "bsdfs/bsdf.h"
+#include "bsdfs/ggx.h"
+#include "scene/texture.h"
+
+namespace pl {
+
+// glTF 2.0's metallic-roughness material (specification, Appendix B), made energy conserving:
+//   f = (1 − metallic) f_dielectric + metallic f_metal,
+//   f_metal      = F_Schlick(baseColor, wo·m) D G / (4 cosθo cosθi),
+//   f_dielectric = F_Schlick(0.04, wo·m) D G / (4 cosθo cosθi)
+//                + (baseColor/π) (1 − E(cosθo)) (1 − E(cosθi)) / (1 − E_avg),
+// GGX D and Smith G with α = roughness² (bsdfs/ggx.h), m = normalize(wo + wi). The
+// specification's fresnel_mix weights the diffuse base by 1 − F(wo·m), which reflects more than
+// it receives near grazing (albedo up to ≈1.3 for white); here the base is weighted by what the
+// specular layer leaves, E(μ) = ∫ f_spec cosθi dωi being that layer's directional albedo
+// (Kelemen and Szirmay-Kalos 2001; Kulla and Conty 2017). Then the dielectric's albedo is
+// exactly E(μo) + ρ (1 − E(μo)) ≤ 1, and f stays reciprocal. E is tabulated once over (μ,
+// roughness) by quadrature and read piecewise linearly; E_avg = 2∫E(μ) μ dμ of that same
+// piecewise-linear E, so the normalisation is exact for the table that is read.
+//
+// Textures: baseColorTexture (sRGB) and metallicRoughnessTexture (linear: G = roughness,
+// B = metallic), each times its factor. Sampled by one-sample MIS between the GGX lobe (D(m)
+// cosθm) and the cosine lobe, chosen by their estimated albedos at wo.
+class MetallicRoughness final : public BSDF {
+ public:
+  // metallicRoughness: factor (1, roughness, metallic) × the linear texture, if any.
+  MetallicRoughness(ColorTexture baseColor, ColorTexture metallicRoughness)
+      : baseColor_(std::move(baseColor)), metallicRoughness_(std::move(metallicRoughness)) {}
+  Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
+  const char* name() const override { return "metallic-roughness"; }
+
+  // The dielectric specular layer's directional albedo E(μ) at a roughness, and its cosine-
+  // weighted mean E_avg (exposed for tests).
+  static float specularAlbedo(float cosTheta, float roughness);
+  static float specularAlbedoAverage(float roughness);
+  // Below this α (roughness 0.03) the lobe is held at this width: sharp but not a delta.
+  static constexpr float kMinAlpha = 1e-3f;
+
+ private:
+  struct Point {  // the material at one surface point
+    GGX ggx;
+    float roughness, metallic;
+  };
+  Point at(const Vec2& uv) const;
+  float specularProbability(const Point& p, const Vec2& uv, float cosThetaO) const;
+
+  ColorTexture baseColor_, metallicRoughness_;
+};
+
+}  // namespace pl
