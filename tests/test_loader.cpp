@@ -568,6 +568,60 @@ TEST_CASE("loader: metallicRoughnessTexture is linear - G roughness, B metallic,
   }
 }
 
+TEST_CASE("loader: alphaMode MASK cuts the surface out below alphaCutoff - BLEND lets rays through with probability 1 − alpha") {
+  // The floor (y = 0) with a 2×1 RGBA texture: left texel alpha 255 (1), right 64 (0.25098).
+  // Rays straight down at texel centres (x = ∓0.5, z = 0), each from a different height, so each
+  // is a different ray to BLEND's hash.
+  auto floor = [](const std::string& mode, double alphaFactor, const std::string& name) {
+    GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 6, 8, {200, 200, 200, 255, 200, 200, 200, 64})));
+    f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, alphaFactor};
+    f.doc["materials"][0]["alphaMode"] = mode;
+    return loadGltf(f.write(name));
+  };
+  const int N = 20000;
+  auto fractions = [&](const Scene& scene, float x) {  // of closest hits, of occluded shadow rays
+    int hits = 0, blocked = 0;
+    for (int i = 0; i < N; ++i) {
+      Ray r{Vec3(x, 1.0f + i * 1e-4f, 0.0f), Vec3(0, -1, 0), 0.0f, INFINITY};
+      SurfaceHit h;
+      bool hit = scene.intersect(r, &h);
+      if (hit) CHECK(h.p.y == Approx(0.0f).margin(1e-5));
+      hits += hit;
+      SurfaceHit again;  // the same ray decides the same way
+      REQUIRE(scene.intersect(r, &again) == hit);
+      Ray shadow = r;
+      shadow.tmax = 4.0f;  // past the floor from every origin (y ≤ 3)
+      blocked += scene.occluded(shadow);
+    }
+    return std::pair<double, double>(double(hits) / N, double(blocked) / N);
+  };
+  auto opaque = floor("OPAQUE", 1.0, "alpha-opaque.gltf");
+  CHECK(fractions(*opaque, 0.5f).first == 1.0);  // alpha ignored
+  auto mask = floor("MASK", 1.0, "alpha-mask.gltf");  // cutoff 0.5 by default
+  CHECK(fractions(*mask, -0.5f) == std::pair<double, double>(1.0, 1.0));
+  CHECK(fractions(*mask, 0.5f) == std::pair<double, double>(0.0, 0.0));
+  // BLEND: a Bernoulli(α) per ray; σ of the fraction = √(α(1 − α)/N) = 0.0031 at α = 0.251, 4σ.
+  auto blend = floor("BLEND", 1.0, "alpha-blend.gltf");
+  CHECK(fractions(*blend, -0.5f) == std::pair<double, double>(1.0, 1.0));
+  auto [hit, blocked] = fractions(*blend, 0.5f);
+  CHECK(hit == Approx(0.25098).margin(4 * 0.0031));
+  CHECK(blocked == Approx(0.25098).margin(4 * 0.0031));
+  // The factor's alpha multiplies: 0.5 × 1 on the left texel.
+  auto half = floor("BLEND", 0.5, "alpha-blend-half.gltf");
+  CHECK(fractions(*half, -0.5f).first == Approx(0.5).margin(4 * 0.0036));
+  // MASK with alphaCutoff 0.2 keeps the right texel (0.251 ≥ 0.2).
+  {
+    GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 6, 8, {200, 200, 200, 255, 200, 200, 200, 64})));
+    f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    f.doc["materials"][0]["alphaMode"] = "MASK";
+    f.doc["materials"][0]["alphaCutoff"] = 0.2;
+    CHECK(fractions(*loadGltf(f.write("alpha-cutoff.gltf")), 0.5f).first == 1.0);
+    f.doc["materials"][0]["alphaMode"] = "CUTOUT";
+    CHECK_THAT(loadError(f.write("alpha-bad.gltf")), Contains("materials[0].alphaMode: must be OPAQUE, MASK or BLEND"));
+  }
+}
+
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {
   GltfFixture d;
   d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};

@@ -522,6 +522,10 @@ class Loader {
         float v = sample(i, channels >= 3 ? c : 0);
         image->texels[i][c] = srgb ? srgbDecode(v) : v;
       }
+    if (channels == 2 || channels == 4) {  // grey + alpha, RGBA: coverage is linear
+      image->alpha.resize(image->texels.size());
+      for (size_t i = 0; i < image->texels.size(); ++i) image->alpha[i] = sample(i, channels - 1);
+    }
     cache[src] = image;
     return image;
   }
@@ -594,6 +598,23 @@ class Loader {
       ignoredInMaterial(index, "baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
     ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
                       textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"));
+    // alphaMode: coverage = baseColorFactor's alpha × the base-colour texture's alpha.
+    float alphaFactor = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
+    if (!(alphaFactor >= 0 && alphaFactor <= 1)) fail(el + ".baseColorFactor[3]", "alpha must be in [0, 1]");
+    if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
+      if (!(m.alphaCutoff >= 0 && m.alphaCutoff <= 1)) fail(el + ".alphaCutoff", "must be in [0, 1]");
+      out.alphaMode = m.alphaMode == "MASK" ? AlphaMode::Mask : AlphaMode::Blend;
+      out.alphaCutoff = float(m.alphaCutoff);
+      out.alpha = std::make_shared<AlphaTexture>(alphaFactor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
+                                                 textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"));
+      // Fully opaque everywhere (no alpha channel, factor 1): nothing to test per hit.
+      if (out.alpha->isConstant() && (out.alphaMode == AlphaMode::Mask ? alphaFactor >= out.alphaCutoff : alphaFactor == 1.0f)) {
+        out.alphaMode = AlphaMode::Opaque;
+        out.alpha = nullptr;
+      }
+    } else if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty()) {
+      fail(el + ".alphaMode", "must be OPAQUE, MASK or BLEND, got \"" + m.alphaMode + "\"");
+    }
     float metallic = float(pbr.metallicFactor), roughness = float(pbr.roughnessFactor);
     if (!(metallic >= 0 && metallic <= 1)) fail(el + ".metallicFactor", "must be in [0, 1]");
     if (!(roughness >= 0 && roughness <= 1)) fail(el + ".roughnessFactor", "must be in [0, 1]");

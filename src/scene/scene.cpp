@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <cstring>
+
 #include <atomic>
 #include <limits>
 
@@ -111,23 +113,36 @@ void Scene::commit() {
 
   rtcScene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
-  if (!triangles_.empty()) {
+  // Opaque triangles in one geometry; those whose material has alpha in a second, with the
+  // filter, so opaque traversal pays nothing for it.
+  std::vector<uint32_t> opaque, cutout;
+  for (uint32_t i = 0; i < triangles_.size(); ++i)
+    (materials_[triangles_[i].material].alphaMode == AlphaMode::Opaque ? opaque : cutout).push_back(i);
+  for (const std::vector<uint32_t>* part : {&opaque, &cutout}) {
+    if (part->empty()) continue;
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                            3 * sizeof(float), positions_.size()));
     auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(uint32_t), triangles_.size()));
+                                                              3 * sizeof(uint32_t), part->size()));
     if (!vb || !ib) throw Error("Embree: out of memory for " + std::to_string(triangles_.size()) + " triangles");
     for (size_t i = 0; i < positions_.size(); ++i) {
       vb[3 * i] = positions_[i].x;
       vb[3 * i + 1] = positions_[i].y;
       vb[3 * i + 2] = positions_[i].z;
     }
-    for (size_t i = 0; i < triangles_.size(); ++i)
-      for (int k = 0; k < 3; ++k) ib[3 * i + k] = triangles_[i].v[k];
+    for (size_t i = 0; i < part->size(); ++i)
+      for (int k = 0; k < 3; ++k) ib[3 * i + k] = triangles_[(*part)[i]].v[k];
+    if (part == &cutout) {
+      rtcSetGeometryUserData(geom, this);
+      rtcSetGeometryIntersectFilterFunction(geom, &Scene::alphaFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, &Scene::alphaFilter);
+    }
     rtcCommitGeometry(geom);
-    rtcAttachGeometry(rtcScene_, geom);
+    unsigned id = rtcAttachGeometry(rtcScene_, geom);
     rtcReleaseGeometry(geom);
+    if (geometryTriangles_.size() <= id) geometryTriangles_.resize(id + 1);
+    if (part->size() != triangles_.size()) geometryTriangles_[id] = *part;
   }
   rtcCommitScene(rtcScene_);
   RTCError err = rtcGetDeviceError(device_);
@@ -177,7 +192,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   ++rayCounter.count;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-  *hit = surfaceAt(rh.hit.primID, rh.hit.u, rh.hit.v);  // Embree: p = (1 − u − v) v0 + u v1 + v v2
+  *hit = surfaceAt(triangleOf(rh.hit.geomID, rh.hit.primID), rh.hit.u, rh.hit.v);  // Embree: p = (1 − u − v) v0 + u v1 + v v2
   hit->t = rh.ray.tfar;
   return true;
 }
@@ -202,6 +217,45 @@ bool Scene::occluded(const Ray& ray) const {
   rtcOccluded1(rtcScene_, &context, &r);
   ++rayCounter.count;
   return r.tfar < 0.0f;  // Embree sets tfar = −inf when something was hit
+}
+
+namespace {
+uint64_t mix64(uint64_t x) {  // splitmix64's finaliser
+  x ^= x >> 30, x *= 0xbf58476d1ce4e5b9ull;
+  x ^= x >> 27, x *= 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+uint64_t bitsOf(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+}  // namespace
+
+bool Scene::presentAt(uint32_t triangle, float b1, float b2, uint64_t rayHash) const {
+  const Triangle& tri = triangles_[triangle];
+  const Material& m = materials_[tri.material];
+  Vec2 uv = tri.hasUV ? (1 - b1 - b2) * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
+  float alpha = m.alpha ? m.alpha->eval(uv) : 1.0f;
+  if (m.alphaMode == AlphaMode::Mask) return alpha >= m.alphaCutoff;
+  // BLEND: present with probability alpha, decided by a hash of the ray and where it crosses
+  // the triangle: deterministic (the same ray decides the same way on any thread), and
+  // independent between rays as the sampler's own numbers are.
+  uint64_t h = mix64(rayHash ^ mix64(uint64_t(triangle) << 32 ^ bitsOf(b1) << 1 ^ bitsOf(b2)));
+  return float(h >> 40) * 0x1p-24f < alpha;
+}
+
+void Scene::alphaFilter(const RTCFilterFunctionNArguments* args) {
+  const Scene* scene = static_cast<const Scene*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned N = args->N;
+    uint64_t ray = mix64(bitsOf(RTCRayN_org_x(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_org_y(args->ray, N, i)));
+    ray = mix64(ray ^ bitsOf(RTCRayN_org_z(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_x(args->ray, N, i)));
+    ray = mix64(ray ^ bitsOf(RTCRayN_dir_y(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_z(args->ray, N, i)));
+    uint32_t triangle = scene->triangleOf(RTCHitN_geomID(args->hit, N, i), RTCHitN_primID(args->hit, N, i));
+    if (!scene->presentAt(triangle, RTCHitN_u(args->hit, N, i), RTCHitN_v(args->hit, N, i), ray)) args->valid[i] = 0;
+  }
 }
 
 SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {

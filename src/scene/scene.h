@@ -18,6 +18,10 @@
 
 namespace pl {
 
+// glTF alphaMode: OPAQUE ignores alpha; MASK is opaque where alpha ≥ alphaCutoff and absent
+// elsewhere; BLEND is stochastic transparency, a ray passing with probability 1 − alpha.
+enum class AlphaMode { Opaque, Mask, Blend };
+
 struct Material {
   std::string name;
   std::unique_ptr<BSDF> bsdf;
@@ -25,6 +29,9 @@ struct Material {
   bool twoSided = false;    // glTF doubleSided: emits from both faces
   // glTF emissiveTexture × emission (sRGB texels decoded), or null: Le is `emission` everywhere.
   std::shared_ptr<const ColorTexture> emissionTexture = nullptr;
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;
+  std::shared_ptr<const AlphaTexture> alpha = nullptr;  // set unless alphaMode is Opaque
 };
 
 struct SurfaceHit {
@@ -127,8 +134,20 @@ class Scene {
     bool smooth = false;  // the mesh has NORMALs
     bool hasUV = false;   // the mesh has TEXCOORD_0
   };
+  // Embree filter for triangles whose material is MASK or BLEND: rejects a hit where the
+  // surface is absent (alpha below the cutoff; for BLEND, a hash of the ray and the hit point
+  // at or above alpha), so traversal goes on past it, for closest hits and shadow rays alike.
+  static void alphaFilter(const RTCFilterFunctionNArguments* args);
+  bool presentAt(uint32_t triangle, float b1, float b2, uint64_t rayHash) const;
+  uint32_t triangleOf(unsigned geomID, unsigned primID) const {
+    const auto& map = geometryTriangles_[geomID];
+    return map.empty() ? primID : map[primID];
+  }
   RTCDevice device_ = nullptr;
   RTCScene rtcScene_ = nullptr;
+  // Per Embree geometry (opaque triangles first, then the alpha-tested ones), its primitives'
+  // triangle indices; empty when it holds every triangle in order.
+  std::vector<std::vector<uint32_t>> geometryTriangles_;
   std::vector<Vec3> positions_, normals_;
   std::vector<Vec2> uvs_;
   std::vector<Vec3> faceNormals_;

@@ -11,7 +11,23 @@ namespace pl {
 struct Image {
   int width = 0, height = 0;
   std::vector<Spectrum> texels;  // linear RGB, row 0 at the top (glTF uv (0,0) is top-left)
+  std::vector<float> alpha;      // coverage (linear), per texel; empty when the image has none
 };
+
+// Bilinear lookup with repeat wrapping (the glTF default sampler) of texel(i, j), i across.
+template <typename T, typename Texel>
+T bilinearRepeat(const Image& image, const Vec2& uv, const Texel& texel) {
+  float x = (uv.x - std::floor(uv.x)) * image.width - 0.5f;
+  float y = (uv.y - std::floor(uv.y)) * image.height - 0.5f;
+  int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  float fx = x - x0, fy = y - y0;
+  auto at = [&](int i, int j) {
+    i = ((i % image.width) + image.width) % image.width;
+    j = ((j % image.height) + image.height) % image.height;
+    return texel(size_t(j) * image.width + i);
+  };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+}
 
 // KHR_texture_transform: uv' = T(offset)·R(rotation)·S(scale)·uv, as the extension's GLSL
 // states it: u' = cos·sx·u − sin·sy·v + ox, v' = sin·sx·u + cos·sy·v + oy.
@@ -47,18 +63,7 @@ class ColorTexture {
   Spectrum evalRGB(const Vec2& surfaceUV) const {
     if (!image_) return factor_;
     const Vec2 uv = transformed_ ? transform_.apply(surfaceUV) : surfaceUV;
-    // Bilinear lookup with repeat wrapping (the glTF default sampler).
-    float x = (uv.x - std::floor(uv.x)) * image_->width - 0.5f;
-    float y = (uv.y - std::floor(uv.y)) * image_->height - 0.5f;
-    int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-    float fx = x - x0, fy = y - y0;
-    auto at = [&](int i, int j) {
-      i = ((i % image_->width) + image_->width) % image_->width;
-      j = ((j % image_->height) + image_->height) % image_->height;
-      return image_->texels[size_t(j) * image_->width + i];
-    };
-    Spectrum c = (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
-                 fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+    Spectrum c = bilinearRepeat<Spectrum>(*image_, uv, [&](size_t k) { return image_->texels[k]; });
     return factor_ * c;
   }
   bool isConstant() const { return !image_; }
@@ -71,6 +76,26 @@ class ColorTexture {
   std::shared_ptr<const LazySpectrum> spectrum_;  // shared by copies of a constant texture
   UvTransform transform_;
   bool transformed_ = false;
+};
+
+// glTF coverage: baseColorFactor's alpha × the base-colour texture's alpha channel (linear),
+// looked up through the base-colour texture's transform. 1 where the image has no alpha.
+class AlphaTexture {
+ public:
+  AlphaTexture(float factor, std::shared_ptr<const Image> image, const UvTransform& transform)
+      : factor_(factor), image_(image && !image->alpha.empty() ? std::move(image) : nullptr), transform_(transform) {}
+  float eval(const Vec2& surfaceUV) const {
+    if (!image_) return factor_;
+    const Vec2 uv = transform_.identity() ? surfaceUV : transform_.apply(surfaceUV);
+    return factor_ * bilinearRepeat<float>(*image_, uv, [&](size_t k) { return image_->alpha[k]; });
+  }
+  bool isConstant() const { return !image_; }
+  float factor() const { return factor_; }
+
+ private:
+  float factor_;
+  std::shared_ptr<const Image> image_;
+  UvTransform transform_;
 };
 
 }  // namespace pl
