@@ -5,12 +5,13 @@
 
 #include <catch2/catch.hpp>
 
-#include "bsdfs/metallic_roughness.h"
-
 #include <algorithm>
 #include <functional>
 
 #include "bsdfs/dielectric.h"
+#include "bsdfs/metallic_roughness.h"
+#include "integrator_helpers.h"
+#include "render/renderer.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_loader.h"
 
@@ -620,6 +621,62 @@ TEST_CASE("loader: alphaMode MASK cuts the surface out below alphaCutoff - BLEND
     f.doc["materials"][0]["alphaMode"] = "CUTOUT";
     CHECK_THAT(loadError(f.write("alpha-bad.gltf")), Contains("materials[0].alphaMode: must be OPAQUE, MASK or BLEND"));
   }
+}
+
+TEST_CASE("loader: normalTexture tilts the shading normal in its tangent frame - tangents from the uvs or from TANGENT") {
+  // The fixture's floor (y = 0, face normal +y, u = (x + 1)/2, v = (z + 1)/2) with a normal map
+  // whose every texel is (218, 128, 218): tangent-space n = 2c − 1 = (0.709804, 0.003922,
+  // 0.709804), tilted 45° towards the tangent.
+  auto floor = [](const std::string& name, const std::function<void(GltfFixture&)>& edit) {
+    GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 2, 8, {218, 128, 218, 218, 128, 218})));
+    f.doc["materials"][0]["normalTexture"] = {{"index", 0}};
+    edit(f);
+    return loadGltf(f.write(name));
+  };
+  auto shadingNormal = [](const Scene& scene) {
+    SurfaceHit h;
+    REQUIRE(scene.intersect(Ray{Vec3(0.3f, 1, 0.2f), Vec3(0, -1, 0), 0, INFINITY}, &h));
+    return h.shading.n;
+  };
+  const float c = 218 / 255.0f * 2 - 1, g = 128 / 255.0f * 2 - 1;
+  auto expect = [](const Vec3& n, const Vec3& e) {
+    Vec3 unit = glm::normalize(e);
+    INFO("shading normal " << n.x << " " << n.y << " " << n.z << ", expected " << unit.x << " " << unit.y << " " << unit.z);
+    CHECK(glm::dot(n, unit) == Approx(1.0f).epsilon(1e-5));
+  };
+  // Generated: t = ∂p/∂u = +x, bitangent n × t = +y × +x = −z.
+  auto generated = floor("normal-generated.gltf", [](GltfFixture&) {});
+  expect(shadingNormal(*generated), c * Vec3(1, 0, 0) + g * Vec3(0, 0, -1) + c * Vec3(0, 1, 0));
+  // scale 0.5 halves x and y of the tangent-space normal.
+  auto scaled = floor("normal-scaled.gltf", [](GltfFixture& f) { f.doc["materials"][0]["normalTexture"]["scale"] = 0.5; });
+  expect(shadingNormal(*scaled), 0.5f * c * Vec3(1, 0, 0) + 0.5f * g * Vec3(0, 0, -1) + c * Vec3(0, 1, 0));
+  // Given TANGENT (0, 0, 1, w): t = +z, bitangent w (+y × +z) = w (+x).
+  for (float w : {1.0f, -1.0f}) {
+    auto given = floor("normal-tangent.gltf", [&](GltfFixture& f) {
+      float tangents[16] = {0, 0, 1, w, 0, 0, 1, w, 0, 0, 1, w, 0, 0, 1, w};
+      size_t offset = f.bin.size();
+      f.bin.resize(offset + 64);
+      std::memcpy(f.bin.data() + offset, tangents, 64);
+      f.doc["buffers"][0]["byteLength"] = f.bin.size();
+      f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", 64}});
+      f.doc["accessors"].push_back({{"bufferView", f.doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC4"}});
+      f.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = f.doc["accessors"].size() - 1;
+    });
+    expect(shadingNormal(*given), c * Vec3(0, 0, 1) + g * w * Vec3(1, 0, 0) + c * Vec3(0, 1, 0));
+  }
+  // Rendered: a directional light straight down, E = 3 W/m², lights the tilted Lambertian floor
+  // (ρ = 0.5) by L = ρ/π · E · (n_s · ŷ) = ρ/π · E · c/|(c, g, c)| = 0.33761 at every pixel: the
+  // direct integrator's estimate is exact here, so only float rounding separates them.
+  auto lit = floor("normal-lit.gltf", [](GltfFixture& f) {
+    f.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}, {"intensity", 3.0}};
+    f.doc["nodes"][2]["rotation"] = {-0.7071068, 0, 0, 0.7071068};  // −Z (the light's direction) to −Y
+  });
+  RenderOptions ro;
+  ro.width = ro.height = 8;
+  ro.spp = 4;
+  ImageRGB image = render(*lit, *makeIntegrator("direct", {}), ro, nullptr);
+  const double expected = 0.5 / kPi * 3.0 * c / std::sqrt(2 * c * c + g * g);
+  for (float v : image.data) REQUIRE(v == Approx(expected).epsilon(1e-4));
 }
 
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {

@@ -299,7 +299,7 @@ class Loader {
   // (texture coordinates: normalised unsigned bytes and shorts) and, in a file that uses
   // KHR_mesh_quantization, that extension's (POSITION: any byte or short, normalised or not;
   // NORMAL: normalised signed bytes and shorts; TEXCOORD_0: any byte or short).
-  enum class Attribute { Position, Normal, TexCoord };
+  enum class Attribute { Position, Normal, Tangent, TexCoord };
   bool integerAllowed(Attribute a, int ct, bool normalized) const {
     const bool isUnsigned = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
     const bool isSigned = ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT;
@@ -307,7 +307,8 @@ class Loader {
     if (!quantized_) return false;
     switch (a) {
       case Attribute::Position: return isSigned || isUnsigned;
-      case Attribute::Normal: return isSigned && normalized;
+      case Attribute::Normal:
+      case Attribute::Tangent: return isSigned && normalized;
       case Attribute::TexCoord: return isSigned || isUnsigned;
     }
     return false;
@@ -598,6 +599,16 @@ class Loader {
       ignoredInMaterial(index, "baseColorTexture uses TEXCOORD_" + std::to_string(pbr.baseColorTexture.texCoord) + "; TEXCOORD_0 is used");
     ColorTexture base(baseColor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
                       textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"));
+    if (m.normalTexture.index >= 0) {
+      if (m.normalTexture.texCoord != 0)
+        ignoredInMaterial(index, "normalTexture uses TEXCOORD_" + std::to_string(m.normalTexture.texCoord) + "; TEXCOORD_0 is used");
+      if (!std::isfinite(m.normalTexture.scale)) fail(el + ".normalTexture.scale", "not finite");
+      auto map = std::make_shared<NormalMap>();
+      map->image = textureImage(m.normalTexture.index, el + ".normalTexture", false);
+      map->transform = textureTransform(index, m.normalTexture, el + ".normalTexture");
+      map->scale = float(m.normalTexture.scale);
+      out.normalMap = map;
+    }
     // alphaMode: coverage = baseColorFactor's alpha × the base-colour texture's alpha.
     float alphaFactor = pbr.baseColorFactor.size() == 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
     if (!(alphaFactor >= 0 && alphaFactor <= 1)) fail(el + ".baseColorFactor[3]", "alpha must be in [0, 1]");
@@ -863,6 +874,11 @@ class Loader {
         T = readFloats(it->second, 2, Attribute::TexCoord, el + ".TEXCOORD_0");
         if (T.size() != 2 * n) fail(el + ".TEXCOORD_0", "count differs from POSITION");
       }
+      std::vector<float> tangentData;
+      if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
+        tangentData = readFloats(it->second, 4, Attribute::Tangent, el + ".TANGENT");
+        if (tangentData.size() != 4 * n) fail(el + ".TANGENT", "count differs from POSITION");
+      }
       std::vector<uint32_t> idx;
       if (prim.indices >= 0) {
         idx = readIndices(prim.indices);
@@ -890,9 +906,18 @@ class Loader {
         if (!withinScene(positions[i]))
           fail(el + ".POSITION", "vertex " + std::to_string(i) + " lies beyond 1e7 m from the origin (coordinates are in metres)");
       }
+      // Tangents are directions on the surface: they take the node's linear part (normals its
+      // inverse transpose), and a mirroring transform flips the bitangent's handedness.
+      std::vector<glm::vec4> tangents(tangentData.empty() ? 0 : n);
+      for (size_t i = 0; i < tangents.size(); ++i) {
+        Vec3 t = glm::mat3(world) * Vec3(tangentData[4 * i], tangentData[4 * i + 1], tangentData[4 * i + 2]);
+        float w = tangentData[4 * i + 3] < 0 ? -1.0f : 1.0f;
+        if (!isFinite(t)) fail(el + ".TANGENT", "not finite");
+        tangents[i] = glm::vec4(t, flipWinding ? -w : w);
+      }
       int material = prim.material;
       if (material >= int(model_.materials.size())) fail(el + ".material", "index out of range");
-      scene_->addMesh(positions, normals, uvs, tris, material < 0 ? defaultMaterial_ : uint32_t(material));
+      scene_->addMesh(positions, normals, uvs, tris, material < 0 ? defaultMaterial_ : uint32_t(material), tangents);
     }
   }
 

@@ -34,7 +34,8 @@ uint32_t Scene::addMaterial(Material material) {
 }
 
 void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-                    const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material) {
+                    const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material,
+                    const std::vector<glm::vec4>& tangents) {
   if (indices.size() % 3) throw Error("mesh index count is not a multiple of 3");
   if (material >= materials_.size()) throw Error("mesh refers to an unknown material");
   uint32_t base = uint32_t(positions_.size());
@@ -60,7 +61,38 @@ void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>&
     tri.material = material;
     tri.smooth = smooth;
     tri.hasUV = !uvs.empty();
+    tri.hasTangent = materials_[material].normalMap && !uvs.empty();
     triangles_.push_back(tri);
+  }
+  if (!materials_[material].normalMap || uvs.empty()) return;
+  // Tangents for the normal map. Given (glTF TANGENT): as they are. Otherwise per vertex from
+  // the uvs, t = ∂p/∂u of each triangle, (Δp₁ Δv₂ − Δp₂ Δv₁)/(Δu₁ Δv₂ − Δu₂ Δv₁), summed over
+  // the triangles around it (Lengyel's method), made orthogonal to the normal, with w = +1,
+  // bitangent n × t: what the Khronos glTF sample viewer does for a file without TANGENT.
+  tangents_.resize(positions_.size(), glm::vec4(0.0f));
+  if (!tangents.empty()) {
+    for (size_t i = 0; i < positions.size(); ++i) tangents_[base + i] = tangents[i];
+    return;
+  }
+  std::vector<Vec3> sum(positions.size(), Vec3(0.0f)), faceSum(positions.size(), Vec3(0.0f));
+  for (size_t i = 0; i < indices.size(); i += 3) {
+    const uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
+    Vec3 dp1 = positions[b] - positions[a], dp2 = positions[c] - positions[a];
+    Vec2 duv1 = uvs[b] - uvs[a], duv2 = uvs[c] - uvs[a];
+    float det = duv1.x * duv2.y - duv2.x * duv1.y;
+    Vec3 n = glm::cross(dp1, dp2);
+    for (uint32_t v : {a, b, c}) faceSum[v] += n;
+    if (std::abs(det) < 1e-20f) continue;  // degenerate uvs: no direction from this triangle
+    Vec3 t = (dp1 * duv2.y - dp2 * duv1.y) / det;
+    for (uint32_t v : {a, b, c}) sum[v] += t;
+  }
+  for (size_t i = 0; i < positions.size(); ++i) {
+    Vec3 n = smooth ? normals_[base + i] : faceSum[i];
+    float nl = glm::length(n);
+    n = nl > 0 ? n / nl : Vec3(0, 0, 1);
+    Vec3 t = sum[i] - n * glm::dot(n, sum[i]);
+    float tl = glm::length(t);
+    tangents_[base + i] = tl > 0 ? glm::vec4(t / tl, 1.0f) : glm::vec4(0.0f);
   }
 }
 
@@ -270,8 +302,22 @@ SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {
     float len = glm::length(n);
     if (len > 0) ns = n / len;
   }
-  hit.shading = Frame(ns);
   hit.uv = tri.hasUV ? b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
+  if (tri.hasTangent) {
+    // Normal map: n = normalize(x t + y b + z ns), b = w ns × t, t the interpolated tangent made
+    // orthogonal to ns. A mapped normal on the other side of the surface from ns is not used.
+    glm::vec4 t4 = b0 * tangents_[tri.v[0]] + b1 * tangents_[tri.v[1]] + b2 * tangents_[tri.v[2]];
+    Vec3 t = Vec3(t4) - ns * glm::dot(ns, Vec3(t4));
+    float len = glm::length(t);
+    if (len > 0) {
+      t /= len;
+      Vec3 b = (t4.w < 0 ? -1.0f : 1.0f) * glm::cross(ns, t);
+      Vec3 m = materials_[tri.material].normalMap->eval(hit.uv);
+      Vec3 mapped = glm::normalize(m.x * t + m.y * b + m.z * ns);
+      if (glm::dot(mapped, hit.ng) * glm::dot(ns, hit.ng) > 0) ns = mapped;
+    }
+  }
+  hit.shading = Frame(ns);
   hit.barycentric = Vec2(b1, b2);
   hit.primitive = primitive;
   hit.bsdf = materials_[tri.material].bsdf.get();

@@ -32,6 +32,7 @@ struct Material {
   AlphaMode alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
   std::shared_ptr<const AlphaTexture> alpha = nullptr;  // set unless alphaMode is Opaque
+  std::shared_ptr<const NormalMap> normalMap = nullptr;  // glTF normalTexture, or null
 };
 
 struct SurfaceHit {
@@ -65,8 +66,11 @@ class Scene {
   // --- building ---
   uint32_t addMaterial(Material material);
   // World-space triangles; normals and uvs may be empty (flat shading, uv = 0).
+  // tangents (xyz, w = the bitangent's sign: glTF TANGENT) matter only to a material with a
+  // normal map; without them they are generated from the uvs (below).
   void addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
-               const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material);
+               const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material,
+               const std::vector<glm::vec4>& tangents = {});
   // At most one environment (EnvironmentLight) among them.
   void addLight(std::unique_ptr<Light> light);
   void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
@@ -133,6 +137,7 @@ class Scene {
     int32_t light = -1;
     bool smooth = false;  // the mesh has NORMALs
     bool hasUV = false;   // the mesh has TEXCOORD_0
+    bool hasTangent = false;  // normal-mapped: tangents_ holds its vertices' tangents
   };
   // Embree filter for triangles whose material is MASK or BLEND: rejects a hit where the
   // surface is absent (alpha below the cutoff; for BLEND, a hash of the ray and the hit point
@@ -150,6 +155,7 @@ class Scene {
   std::vector<std::vector<uint32_t>> geometryTriangles_;
   std::vector<Vec3> positions_, normals_;
   std::vector<Vec2> uvs_;
+  std::vector<glm::vec4> tangents_;  // per vertex; only normal-mapped meshes' are meaningful
   std::vector<Vec3> faceNormals_;
   std::vector<Triangle> triangles_;
   std::vector<Material> materials_;

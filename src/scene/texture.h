@@ -98,4 +98,20 @@ class AlphaTexture {
   UvTransform transform_;
 };
 
+// glTF normalTexture: a tangent-space normal per texel, n = normalize((2c − 1) · (scale, scale, 1))
+// of the linear texel c, in the frame (tangent, bitangent, normal) with bitangent =
+// w · normal × tangent (+X right, +Y up, +Z out of the surface, as the specification states).
+struct NormalMap {
+  std::shared_ptr<const Image> image;  // linear
+  UvTransform transform;
+  float scale = 1.0f;
+  Vec3 eval(const Vec2& surfaceUV) const {
+    const Vec2 uv = transform.identity() ? surfaceUV : transform.apply(surfaceUV);
+    Spectrum c = bilinearRepeat<Spectrum>(*image, uv, [&](size_t k) { return image->texels[k]; });
+    Vec3 n(scale * (2 * c.x - 1), scale * (2 * c.y - 1), 2 * c.z - 1);
+    float len = glm::length(n);
+    return len > 0 ? n / len : Vec3(0, 0, 1);
+  }
+};
+
 }  // namespace pl
