@@ -710,6 +710,17 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   // The loader's own approximations are said the same way: once for the four materials.
   CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered opaque") == 1);
   CHECK(count("KHR_materials_transmission") == 1);
+  // Core features not read: vertex colours once per file, the occlusion texture once per feature.
+  GltfFixture v;
+  v.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 0;  // any VEC3 accessor
+  v.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  v.doc["textures"] = {{{"source", 0}}};
+  v.doc["images"] = {{{"uri", "data:image/png;base64," + base64(pngRow(1, 0, 8, {255}))}}};
+  std::vector<std::string> more;
+  loadGltf(v.write("colour.gltf"), &more);
+  warnings = more;
+  CHECK(count("COLOR_0: 1 primitive(s) with vertex colours; ignored") == 1);
+  CHECK(count("materials[0]: occlusionTexture is ignored") == 1);
 }
 
 TEST_CASE("loader: baseColorTexture × factor - sRGB texels decoded to linear - looked up by TEXCOORD_0") {

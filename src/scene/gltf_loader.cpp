@@ -550,6 +550,13 @@ class Loader {
       warn("skins: " + std::to_string(model_.skins.size()) + " ignored (meshes render as their vertices are stored)");
     if (!model_.animations.empty())
       warn("animations: " + std::to_string(model_.animations.size()) + " ignored (the scene renders as its nodes are posed)");
+    size_t coloured = 0;
+    for (const auto& mesh : model_.meshes)
+      for (const auto& prim : mesh.primitives) coloured += prim.attributes.count("COLOR_0");
+    if (coloured) warn("COLOR_0: " + std::to_string(coloured) + " primitive(s) with vertex colours; ignored (base colour alone is used)");
+    for (size_t i = 0; i < model_.materials.size(); ++i)
+      if (model_.materials[i].occlusionTexture.index >= 0)
+        ignoredInMaterial(i, "occlusionTexture is ignored (global illumination computes occlusion)");
     size_t morphed = 0;
     for (const auto& mesh : model_.meshes)
       for (const auto& prim : mesh.primitives) morphed += !prim.targets.empty();
