@@ -79,32 +79,34 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   const uint64_t chunkSize = 4096;
   size_t chunks = size_t((count + chunkSize - 1) / chunkSize);
   std::vector<std::vector<Photon>> buffers(chunks);
-  // Every buffer is allocated here, by this thread, before tracing. Allocated by the workers,
-  // they came from glibc's per-thread arenas, whose growth and trimming (mprotect, madvise)
-  // serialise with the other thread's page faults: two threads traced at 43% of the bare
-  // Embree rate instead of 57% (README, Performance).
-  // For 10⁸ paths that is 24 000 allocations, a second or two: the budget is polled here too.
-  for (auto& buffer : buffers) {
-    if (o.budget && o.budget->expired()) {
-      stats->complete = false;
-      stats->traceSeconds += since(t0);
-      return PhotonMap();
-    }
-    buffer.reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
-  }
+  // Buffers are allocated by this thread, before the workers trace into them. Allocated by the
+  // workers, they came from glibc's per-thread arenas, whose growth and trimming (mprotect,
+  // madvise) serialise with the other thread's page faults: two threads traced at 43% of the
+  // bare Embree rate instead of 57% (README, Performance). They are allocated a wave at a time
+  // (256 chunks per thread, ~0.5 s of tracing), not all at once: each allocation is an mmap of
+  // its own (~7 µs, as is its munmap), so reserving 10⁸ paths' 24 000 buffers up front took
+  // 0.17 s before the first path, and freeing them when a budget stopped the tracing another
+  // 0.18 s, both past the budget. The wave's end costs at most a chunk (~2 ms) per thread.
+  const int threads = resolveThreads(o.threads);
+  const size_t wave = 256 * size_t(threads);
   std::atomic<bool> stopped{false};
-  parallelFor(chunks, resolveThreads(o.threads), [&](size_t c, int) {
-    if (o.budget && o.budget->expired()) {  // a chunk is ~2 ms of tracing
-      stopped = true;
-      return;
-    }
-    uint64_t end = std::min(count, (c + 1) * chunkSize);
-    // Appended through a vector of this thread's own, published once: neighbouring chunks'
-    // vector headers share a cache line.
-    std::vector<Photon> photons = std::move(buffers[c]);
-    for (uint64_t i = c * chunkSize; i < end; ++i) tracePath(scene, o, i, count, causticMode, &photons);
-    buffers[c] = std::move(photons);
-  });
+  for (size_t first = 0; first < chunks && !stopped; first += wave) {
+    const size_t last = std::min(chunks, first + wave);
+    for (size_t c = first; c < last; ++c) buffers[c].reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
+    parallelFor(last - first, threads, [&](size_t k, int) {
+      if (o.budget && o.budget->expired()) {  // a chunk is ~2 ms of tracing
+        stopped = true;
+        return;
+      }
+      const size_t c = first + k;
+      uint64_t end = std::min(count, (c + 1) * chunkSize);
+      // Appended through a vector of this thread's own, published once: neighbouring chunks'
+      // vector headers share a cache line.
+      std::vector<Photon> photons = std::move(buffers[c]);
+      for (uint64_t i = c * chunkSize; i < end; ++i) tracePath(scene, o, i, count, causticMode, &photons);
+      buffers[c] = std::move(photons);
+    });
+  }
   stats->traceSeconds += since(t0);
   PhotonMap map;
   if (stopped) {
