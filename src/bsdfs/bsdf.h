@@ -75,4 +75,24 @@ inline bool flipToUpperHemisphere(Vec3& wo, Vec3& wi) {
   return wo.z > 0 && wi.z > 0;
 }
 
+// The reflection-only BSDFs sample on wo's side taken as the upper hemisphere. This gives that
+// side's wo (z > 0); false when wo lies in the surface.
+inline bool upperHemisphere(const Vec3& wo, Vec3* o) {
+  *o = Vec3(wo.x, wo.y, std::abs(wo.z));
+  return wo.z != 0;
+}
+
+// The end of their sample(): wi was drawn in the upper hemisphere with density pdf; the weight
+// is f·cosθi/pdf (f() evaluated only for a usable pdf), and wi goes back to wo's side.
+template <typename F>
+bool finishReflectionSample(const Vec3& wo, Vec3 wi, float pdf, F&& f, BSDFSample* s) {
+  s->pdf = pdf;
+  if (!(pdf > 0)) return false;
+  s->weight = f() * wi.z / pdf;
+  if (wo.z < 0) wi.z = -wi.z;
+  s->wi = wi;
+  s->delta = false;
+  return true;
+}
+
 }  // namespace pl

@@ -20,18 +20,11 @@ float GGXConductor::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext&) cons
 }
 
 bool GGXConductor::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float, BSDFSample* s) const {
-  Vec3 o = wo;
-  if (o.z == 0) return false;
-  if (o.z < 0) o.z = -o.z;
+  Vec3 o;
+  if (!upperHemisphere(wo, &o)) return false;
   Vec3 wi = reflect(o, ggx_.sampleNormal(u));
   if (wi.z <= 0) return false;
-  s->pdf = pdf(o, wi, c);
-  if (s->pdf <= 0) return false;
-  s->weight = eval(o, wi, c) * wi.z / s->pdf;
-  if (wo.z < 0) wi.z = -wi.z;
-  s->wi = wi;
-  s->delta = false;
-  return true;
+  return finishReflectionSample(wo, wi, pdf(o, wi, c), [&] { return eval(o, wi, c); }, s);
 }
 
 }  // namespace pl

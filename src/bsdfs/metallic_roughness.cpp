@@ -98,7 +98,10 @@ MetallicRoughness::Point MetallicRoughness::at(const Vec2& uv) const {
 Spectrum MetallicRoughness::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
-  const Point p = at(c.uv);
+  return f(at(c.uv), o, i, c);
+}
+
+Spectrum MetallicRoughness::f(const Point& p, const Vec3& o, const Vec3& i, const BSDFContext& c) const {
   const Spectrum rho = baseColor_.eval(c.uv, *c.lambda);
   Vec3 m = glm::normalize(o + i);
   float om = glm::dot(o, m);
@@ -134,20 +137,14 @@ float MetallicRoughness::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& 
 }
 
 bool MetallicRoughness::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const {
-  Vec3 o = wo;
-  if (o.z == 0) return false;
-  if (o.z < 0) o.z = -o.z;
-  const Point p = at(c.uv);
+  Vec3 o;
+  if (!upperHemisphere(wo, &o)) return false;
+  const Point p = at(c.uv);  // looked up once for the lobe choice, the pdf and f
   float ps = specularProbability(p, c.uv, o.z);
   Vec3 wi = uc < ps ? reflect(o, p.ggx.sampleNormal(u)) : sampleCosineHemisphere(u);
   if (wi.z <= 0) return false;
-  s->pdf = ps * p.ggx.pdfReflection(o, wi) + (1 - ps) * pdfCosineHemisphere(wi);
-  if (!(s->pdf > 0)) return false;
-  s->weight = eval(o, wi, c) * wi.z / s->pdf;
-  if (wo.z < 0) wi.z = -wi.z;
-  s->wi = wi;
-  s->delta = false;
-  return true;
+  float pdf = ps * p.ggx.pdfReflection(o, wi) + (1 - ps) * pdfCosineHemisphere(wi);
+  return finishReflectionSample(wo, wi, pdf, [&] { return f(p, o, wi, c); }, s);
 }
 
 }  // namespace pl

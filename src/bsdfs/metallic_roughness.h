@@ -45,6 +45,8 @@ class MetallicRoughness final : public BSDF {
     float roughness, metallic;
   };
   Point at(const Vec2& uv) const;
+  // f(o, i) at p, both directions in the upper hemisphere.
+  Spectrum f(const Point& p, const Vec3& o, const Vec3& i, const BSDFContext& c) const;
   float specularProbability(const Point& p, const Vec2& uv, float cosThetaO) const;
 
   ColorTexture baseColor_, metallicRoughness_;
