@@ -223,19 +223,22 @@ TEST_CASE("budget: a pass cut short leaves every pixel it reached exactly its n 
       ImageRGB img = renderWith(limit, progressive ? INT32_MAX : 0, &mean);
       const int n = int(mean);
       if (mean == n || n < 1) continue;  // ended between passes: try another budget
-      cut = true;
       double ignored;
       ImageRGB a = renderWith(0, n, &ignored), b = renderWith(0, n + 1, &ignored);
-      size_t asA = 0, asB = 0, neither = 0;
+      // Pixels whose n- and n + 1-pass estimates are the same bits (the black rows above the
+      // box's opening, where every sample is 0) cannot tell which they have: a pass cut short
+      // within them (CI once stopped 90 pixels into the top rows) is tried again.
+      size_t asA = 0, asB = 0, neither = 0, ambiguous = 0;
       for (size_t i = 0; i < size_t(ro.width) * ro.height; ++i) {
-        if (same(img, a, i)) ++asA;
+        if (same(a, b, i)) ++ambiguous;
+        else if (same(img, a, i)) ++asA;
         else if (same(img, b, i)) ++asB;
         else ++neither;
       }
       INFO("budget " << limit << " s: mean passes " << mean << "; pixels as n = " << n << ": " << asA
-                     << ", as n + 1: " << asB << ", neither: " << neither);
+                     << ", as n + 1: " << asB << ", neither: " << neither << ", the same either way: " << ambiguous);
       CHECK(neither == 0);
-      CHECK(asB > 0);
+      cut = asB > 0 && asA > 0;
     }
     CHECK(cut);
   }
