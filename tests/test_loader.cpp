@@ -11,6 +11,7 @@
 #include "bsdfs/dielectric.h"
 #include "bsdfs/metallic_roughness.h"
 #include "integrator_helpers.h"
+#include "scene_helpers.h"
 #include "render/renderer.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_loader.h"
@@ -677,6 +678,54 @@ TEST_CASE("loader: normalTexture tilts the shading normal in its tangent frame -
   ImageRGB image = render(*lit, *makeIntegrator("direct", {}), ro, nullptr);
   const double expected = 0.5 / kPi * 3.0 * c / std::sqrt(2 * c * c + g * g);
   for (float v : image.data) REQUIRE(v == Approx(expected).epsilon(1e-4));
+  // The same level from the light side, per pixel: light tracing's splats, PPM's photons alone and
+  // the bidirectional merges.
+  // Both see the floor's flux per unit of geometric area, E (n_g · ŷ), so both need Veach's
+  // correction |wi·n_s|/|wi·n_g| to arrive at the reflection equation's E (n_s · ŷ); without it they
+  // give ρ/π · E, 41% too bright. 16×16 pixels, seeds 1 and 2: light tracing 512 paths per pixel
+  // (~230 splats in a pixel, 7% noise), PPM 16 passes of 100k paths at a 3 cm radius (~700
+  // photons, 4%); the view ends 0.15 m inside the floor's edge, beyond the radius. Acceptance as
+  // the light-transport tests: median and mean ratio within 1 ± 0.02, p99 |t| < 4.5.
+  ImageRGB level(16, 16);
+  for (float& v : level.data) v = float(expected);
+  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) {
+    PixelAgreement pa = pixelAgreement(renderSeed(1), renderSeed(2), level);
+    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+    CHECK(pa.medianRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.meanRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.p99t < 4.5);
+  };
+  RenderOptions small;
+  small.width = small.height = 16;
+  {
+    INFO("light tracing");
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.spp = 512;
+      o.seed = seed;
+      return render(*lit, *makeIntegrator("light", o), o, nullptr);
+    });
+  }
+  {
+    INFO("photons alone (ppm)");
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*lit, o, nullptr);
+    });
+  }
+  // Merging: bpm has only its merges, vcm weighs them against connections that carry the shading
+  // normal's cosines, so an uncorrected merge would shift its level too. bpm 512 iterations of 256
+  // light paths at a 5 cm radius (~150 merges per pixel), vcm 64.
+  for (const char* name : {"bpm", "vcm"}) {
+    INFO(name);
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      o.spp = std::string(name) == "bpm" ? 512 : 64;
+      return makeWith(name, {{"spp", o.spp}, {"radius", 0.05}})->render(*lit, o, nullptr);
+    });
+  }
 }
 
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {

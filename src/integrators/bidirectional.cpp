@@ -410,12 +410,15 @@ class VertexConnectionMerging::Tracer {
   void merge(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const MergeGrid& grid, Sink& sink) const {
     const Vec3 wo = hit.shading.toWorld(woLocal);
     const BSDFContext cc(hit.uv, path.lambda);
+    const bool shadingDiffers = hit.shadingDiffers();
+    const Vec3 ngLocal = hit.shading.toLocal(hit.ng);
     Spectrum sum(0.0f);
     grid.query(hit.p, [&](const MergeVertex& v) {
       if (v.length + path.length > o_.maxDepth + 1) return;
       if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // the other side of the surface
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
       Spectrum f = hit.bsdf->eval(woLocal, wiLocal, cc);
+      if (shadingDiffers) f *= densityShadingCorrection(wiLocal, ngLocal);
       if (isBlack(f)) return;
       const float cameraDirPdf = hit.bsdf->pdf(woLocal, wiLocal, cc);
       const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);

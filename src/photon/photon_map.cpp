@@ -314,8 +314,14 @@ Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const D
                              GatherStats* stats) const {
   Vec3 n = glm::dot(hit.ng, woWorld) >= 0 ? hit.ng : -hit.ng;
   Vec3 wo = hit.shading.toLocal(woWorld);
-  return estimate(hit.p, n, de, accept, stats,
-                  [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
+  if (!hit.shadingDiffers())
+    return estimate(hit.p, n, de, accept, stats,
+                    [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
+  const Vec3 ngLocal = hit.shading.toLocal(hit.ng);
+  return estimate(hit.p, n, de, accept, stats, [&](const Photon& p) {
+    Vec3 wi = hit.shading.toLocal(p.wi());
+    return hit.bsdf->eval(wo, wi, hit.uv) * densityShadingCorrection(wi, ngLocal);
+  });
 }
 
 Spectrum PhotonMap::irradiance(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,

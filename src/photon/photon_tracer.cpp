@@ -56,13 +56,20 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
                                             : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
     if (!sampled) return;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
+    Vec3 wi = hit.shading.toWorld(bs.wi);
+    if (hit.shadingDiffers()) {
+      // A direction the shading normal allows but the geometry does not would leak through the
+      // surface; and a flux scattered with a shading normal needs Veach's adjoint correction.
+      bool transmitted = bs.wi.z * woLocal.z < 0;
+      if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return;
+      bs.weight *= shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+    }
     // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
     // so the flux keeps its magnitude instead of shrinking bounce after bounce.
     float q = std::min(1.0f, maxComponent(bs.weight));
     if (!(q > 0) || rng.uniform() >= q) return;  // also ends on NaN
     flux *= bs.weight * (1.0f / q);
     if (!isFinite(flux)) return;  // a non-finite BSDF weight ends the path: it never reaches a map
-    Vec3 wi = hit.shading.toWorld(bs.wi);
     ray = scene.spawnRay(hit, wi);
   }
 }

@@ -70,10 +70,14 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
   map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R);
   Vec3 wo = vp.hit.shading.toLocal(vp.wo);
+  const bool shadingDiffers = vp.hit.shadingDiffers();
+  const Vec3 ngLocal = vp.hit.shading.toLocal(vp.hit.ng);
   glm::dvec3 phi(0.0);
   for (const Neighbour& nb : found) {
     const Photon& ph = map.photons()[nb.index];
-    Spectrum f = vp.hit.bsdf->eval(wo, vp.hit.shading.toLocal(ph.wi()), vp.hit.uv);
+    const Vec3 wi = vp.hit.shading.toLocal(ph.wi());
+    Spectrum f = vp.hit.bsdf->eval(wo, wi, vp.hit.uv);
+    if (shadingDiffers) f *= densityShadingCorrection(wi, ngLocal);
     phi += glm::dvec3(vp.beta * f * map.flux(ph)) * photonsPerPass;  // stored flux is Φ/(pmf·M)
   }
   // The statistics persist over all passes: one non-finite BSDF value would poison the pixel

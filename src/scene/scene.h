@@ -46,6 +46,9 @@ struct SurfaceHit {
   const BSDF* bsdf = nullptr;
   const AreaLight* light = nullptr;  // non-null on emissive triangles
   int lightIndex = -1;
+  // The shading normal is not the geometric one (interpolated NORMAL, a normal map): estimators
+  // that mix the two (photon density estimation, light paths) then need their corrections.
+  bool shadingDiffers() const { return shading.n != ng; }
 };
 
 struct Bounds {
