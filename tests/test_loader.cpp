@@ -728,6 +728,69 @@ TEST_CASE("loader: normalTexture tilts the shading normal in its tangent frame -
   }
 }
 
+TEST_CASE("loader: a metallic-roughness metal floor under a directional light is D G1 G1 F E/(4 cos) per pixel - shadow rays, light tracing, photons") {
+  // The fixture's floor with metallicRoughnessTexture texels (0, 128, 255): metallic 1, roughness
+  // 128/255, so α = roughness² and the material is the specification's metal lobe alone,
+  // f = D(m) G1(o) G1(i) F(o·m) / (4 μo μi) with Schlick's F = F0 + (1 − F0)(1 − o·m)⁵, F0 the
+  // base colour (green 0.8: the channel compared). A directional light straight down (E = 3 W/m²,
+  // wi = ŷ, μi = 1) and the camera 2 m above: each point x reflects L(x) = f(wo(x), ŷ) E towards
+  // the camera, computed here from the GGX formulas by hand and averaged over each pixel's
+  // footprint (6×6 midpoint rule). Shadow rays (64 spp), light tracing (512 paths per pixel, the
+  // BSDF in importance mode) and PPM's photons alone (16 passes × 100k, 3 cm) at 16×16, seeds 1
+  // and 2; acceptance as the light-transport tests: median and mean ratio within 1 ± 0.02, p99
+  // |t| < 4.5. The highlight is 3.6× the image's corners; α = roughness instead of roughness²
+  // would make its centre 4× darker.
+  GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 2, 8, {0, 128, 255, 0, 128, 255})));
+  f.doc["materials"][0].erase("extras");
+  f.doc["materials"][0]["pbrMetallicRoughness"] = {{"baseColorFactor", {0.9, 0.8, 0.3, 1.0}}, {"metallicFactor", 1.0},
+                                                   {"roughnessFactor", 1.0}, {"metallicRoughnessTexture", {{"index", 0}}}};
+  f.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}, {"intensity", 3.0}};
+  f.doc["nodes"][2]["rotation"] = {-0.7071068, 0, 0, 0.7071068};
+  auto scene = loadGltf(f.write("metal-floor.gltf"));
+  REQUIRE(std::string(scene->materials()[0].bsdf->name()) == "metallic-roughness");
+
+  const double roughness = 128 / 255.0, alpha = roughness * roughness, F0 = 0.8, E = 3.0;
+  auto G1 = [&](double cosTheta) {
+    double tan2 = (1 - cosTheta * cosTheta) / (cosTheta * cosTheta);
+    return 2 / (1 + std::sqrt(1 + alpha * alpha * tan2));
+  };
+  auto L = [&](const Vec3& x) {
+    glm::dvec3 wo = glm::normalize(glm::dvec3(0, 2, 0) - glm::dvec3(x)), wi(0, 1, 0), m = glm::normalize(wo + wi);
+    double c2 = m.y * m.y, a2 = alpha * alpha;
+    double D = a2 / (kPi * std::pow(c2 * (a2 - 1) + 1, 2));
+    double F = F0 + (1 - F0) * std::pow(1 - glm::dot(wo, m), 5);
+    return D * G1(wo.y) * G1(1.0) * F / (4 * wo.y * 1.0) * E * 1.0;
+  };
+  const int W = 16;
+  ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
+  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) {
+    PixelAgreement pa = pixelAgreement(renderSeed(1), renderSeed(2), expected);
+    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+    CHECK(pa.medianRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.meanRatio == Approx(1.0).margin(0.02));
+    CHECK(pa.p99t < 4.5);
+  };
+  RenderOptions small;
+  small.width = small.height = W;
+  for (const char* name : {"direct", "light"}) {
+    INFO(name);
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      o.spp = std::string(name) == "direct" ? 64 : 512;
+      return render(*scene, *makeIntegrator(name, o), o, nullptr);
+    });
+  }
+  {
+    INFO("photons alone (ppm)");
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
+    });
+  }
+}
+
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {
   GltfFixture d;
   d.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
