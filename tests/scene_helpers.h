@@ -122,6 +122,18 @@ inline PixelAgreement pixelAgreement(const ImageRGB& a, const ImageRGB& b, const
   return {ratio[ratio.size() / 2], sum / (2 * mean * W * H), t[size_t(0.99 * (t.size() - 1))]};
 }
 
+// The per-pixel acceptance of the light-transport tests: two seeds of an estimator against an
+// expected image, median and mean ratio within 1 ± margin, and the 99th percentile of |t| below
+// 4.5 (3.25 for t₉; the margin covers the neighbourhood's uneven noise).
+inline void checkAgreesPerPixel(const std::function<ImageRGB(uint64_t)>& renderSeed, const ImageRGB& expected,
+                                double margin = 0.02) {
+  PixelAgreement pa = pixelAgreement(renderSeed(1), renderSeed(2), expected);
+  INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
+  CHECK(pa.medianRatio == Approx(1.0).margin(margin));
+  CHECK(pa.meanRatio == Approx(1.0).margin(margin));
+  CHECK(pa.p99t < 4.5);
+}
+
 // The mirror caustic rendered by `render(scene, seed)` at 24×24 pixels with seeds 1 and 2,
 // against its closed form per pixel. Only the light side reaches the mirror-image term (9% of the
 // direct one under the light); a pixel's splats or merges are a Poisson count of ~12 at 512

@@ -262,12 +262,7 @@ template <typename RenderFn>
 void checkPerPixel(const LightCase& c, int W, double medianMargin, RenderFn&& render) {
   auto scene = floorScene(c);
   ImageRGB expected = expectedFloorImage(*scene, W, W, [&](const Vec3& x) { return kRho / kPi * c.E(x); }, 8);
-  ImageRGB a = render(*scene, uint64_t(1)), b = render(*scene, uint64_t(2));
-  PixelAgreement pa = pixelAgreement(a, b, expected);
-  INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
-  CHECK(pa.medianRatio == Approx(1.0).margin(medianMargin));
-  CHECK(pa.meanRatio == Approx(1.0).margin(medianMargin));
-  CHECK(pa.p99t < 4.5);
+  checkAgreesPerPixel([&](uint64_t seed) { return render(*scene, seed); }, expected, medianMargin);
 }
 
 TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - median and 99th percentile") {
@@ -435,14 +430,7 @@ TEST_CASE("alpha BLEND: a sheet of alpha 0.5 passes half of the light and half o
     double r2 = 1.0 + x.x * x.x + x.z * x.z;
     return (1 - alpha) * (1 - alpha) * kRho / kPi * I / (r2 * std::sqrt(r2));
   }, 8);
-  auto check = [&](const std::function<ImageRGB(uint64_t)>& render) {
-    ImageRGB a = render(1), b = render(2);
-    PixelAgreement pa = pixelAgreement(a, b, expected);
-    INFO("median ratio " << pa.medianRatio << ", mean ratio " << pa.meanRatio << ", p99 |t| " << pa.p99t);
-    CHECK(pa.medianRatio == Approx(1.0).margin(0.02));
-    CHECK(pa.meanRatio == Approx(1.0).margin(0.02));
-    CHECK(pa.p99t < 4.5);
-  };
+  auto check = [&](const std::function<ImageRGB(uint64_t)>& render) { checkAgreesPerPixel(render, expected); };
   RenderOptions ro;
   ro.width = ro.height = W;
   SECTION("path: camera rays and shadow rays") {
