@@ -927,3 +927,124 @@ TEST_CASE("loader: KHR_mesh_quantization - integer positions, normals and textur
   q.doc.erase("extensionsRequired");
   CHECK_THAT(loadError(q.write("quantized-undeclared.gltf")), Contains("POSITION") && Contains("KHR_mesh_quantization"));
 }
+
+namespace {
+// The fixture's floor, and a second quad (with tilted NORMALs and uvs, and a material of its own)
+// placed by three nodes: scaled, rotated, and mirrored. `instanced`: the three nodes share one
+// mesh; otherwise each has its own copy of it, as a file without instancing would.
+GltfFixture threeQuads(bool instanced, bool emissive) {
+  GltfFixture f;
+  float normals[12] = {0.3f, 1, 0, 0, 1, 0.3f, -0.3f, 1, 0, 0, 1, -0.3f};
+  float uvs[8] = {0, 0, 0, 1, 1, 1, 1, 0};
+  f.bin.resize(72 + 48 + 32);
+  std::memcpy(f.bin.data() + 72, normals, 48);
+  std::memcpy(f.bin.data() + 120, uvs, 32);
+  f.doc["buffers"][0]["byteLength"] = f.bin.size();
+  f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 48}});
+  f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 120}, {"byteLength", 32}});
+  f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}});
+  f.doc["accessors"].push_back({{"bufferView", 3}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+  json material = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.6, 0.9, 1}}, {"metallicFactor", 0}}},
+                   {"extras", {{"photonlab", {{"bsdf", "lambertian"}}}}}};
+  if (emissive) material["emissiveFactor"] = {1.0, 0.5, 0.25};
+  f.doc["materials"].push_back(material);
+  json quad = {{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 2}, {"TEXCOORD_0", 3}}}, {"indices", 1}, {"material", 1}}}}};
+  f.doc["meshes"].push_back(quad);
+  if (!instanced) f.doc["meshes"].push_back(quad), f.doc["meshes"].push_back(quad);
+  f.doc["nodes"].push_back({{"mesh", 1}, {"translation", {0, 0.4, 0}}, {"scale", {0.3, 0.3, 0.3}}});
+  f.doc["nodes"].push_back({{"mesh", instanced ? 1 : 2}, {"translation", {0.5, 0.7, 0.2}},
+                            {"rotation", {0.2588190, 0, 0, 0.9659258}}, {"scale", {0.2, 0.2, 0.25}}});
+  f.doc["nodes"].push_back({{"mesh", instanced ? 1 : 3}, {"translation", {-0.5, 0.6, -0.1}}, {"scale", {-0.25, 0.25, 0.3}}});
+  f.doc["scenes"][0]["nodes"] = {0, 1, 2, 3, 4, 5};
+  return f;
+}
+}  // namespace
+
+TEST_CASE("loader: a mesh placed by several nodes is stored once (Embree instances) and renders as its copies would") {
+  // The same three placements of one quad, instanced and as three copies (which the loader
+  // stores in world space, transformed as before). Every ray of a grid must find the same
+  // surface in both: the hit point, the geometric and shading normals (inverse transpose; the
+  // mirrored placement keeps its front face), the uv, the material; and the numbered triangle's
+  // corners with the hit's barycentrics give back the hit point in both.
+  for (bool emissive : {false, true}) {
+    INFO("emissive " << emissive);
+    auto a = loadGltf(threeQuads(true, emissive).write("instanced.gltf"));
+    auto b = loadGltf(threeQuads(false, emissive).write("copies.gltf"));
+    CHECK(a->triangleCount() == 8);
+    CHECK(b->triangleCount() == 8);
+    CHECK(a->storedTriangleCount() == 4);  // the floor and the quad, once
+    CHECK(b->storedTriangleCount() == 8);
+    CHECK(a->instanceCount() == 3);
+    CHECK(b->instanceCount() == 0);
+    for (int k = 0; k < 3; ++k) {
+      CHECK(a->bounds().lo[k] == Approx(b->bounds().lo[k]).margin(1e-5));
+      CHECK(a->bounds().hi[k] == Approx(b->bounds().hi[k]).margin(1e-5));
+    }
+    // Emission: one area light per placed triangle, facing as its copy does, the same power.
+    CHECK(a->lights().size() == b->lights().size());
+    CHECK(a->lights().size() == (emissive ? 7u : 1u));
+    for (int c = 0; c < 3; ++c) CHECK(a->totalPower()[c] == Approx(b->totalPower()[c]).epsilon(1e-5));
+
+    int hits = 0;
+    for (int i = 0; i < 64; ++i)
+      for (int j = 0; j < 64; ++j)
+        for (float side : {1.0f, -1.0f}) {  // from above and from below
+          Vec3 o(-1 + (i + 0.5f) / 32, side > 0 ? 2.0f : -1.0f, -1 + (j + 0.5f) / 32);
+          Vec3 target(0.8f * o.x, 0.5f, 0.8f * o.z);
+          Ray ray{o, glm::normalize(target - o), 0.0f, INFINITY};
+          SurfaceHit ha, hb;
+          bool fa = a->intersect(ray, &ha), fb = b->intersect(ray, &hb);
+          REQUIRE(fa == fb);
+          if (!fa) continue;
+          ++hits;
+          CHECK(ha.t == Approx(hb.t).epsilon(1e-5));
+          CHECK(glm::length(ha.p - hb.p) < 1e-5f);
+          CHECK(glm::dot(ha.ng, hb.ng) > 0.99999f);
+          CHECK(glm::dot(ha.shading.n, hb.shading.n) > 0.99999f);
+          CHECK(glm::length(ha.uv - hb.uv) < 1e-5f);
+          CHECK(a->triangleMaterial(ha.primitive) == b->triangleMaterial(hb.primitive));
+          CHECK((ha.light != nullptr) == (hb.light != nullptr));
+          if (ha.light) {
+            const SampledWavelengths& rgb = SampledWavelengths::rgb();
+            Spectrum La = ha.light->L(ha.uv, -ray.d, rgb), Lb = hb.light->L(hb.uv, -ray.d, rgb);
+            CHECK(glm::length(La - Lb) < 1e-6f);  // both emit towards the ray, or neither
+          }
+          for (const auto& [scene, h] : {std::pair{a.get(), ha}, std::pair{b.get(), hb}}) {
+            auto v = scene->trianglePositions(h.primitive);
+            Vec3 p = (1 - h.barycentric.x - h.barycentric.y) * v[0] + h.barycentric.x * v[1] + h.barycentric.y * v[2];
+            CHECK(glm::length(p - h.p) < 1e-5f);
+            SurfaceHit s = scene->surfaceAt(h.primitive, h.barycentric.x, h.barycentric.y);
+            CHECK(glm::length(s.p - h.p) < 1e-5f);
+            CHECK(glm::dot(s.shading.n, h.shading.n) > 0.99999f);
+            Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);  // the corners' order is the front face's
+            CHECK(glm::dot(n, h.ng) > 0);
+          }
+        }
+    CHECK(hits > 4000);
+  }
+}
+
+TEST_CASE("loader: instanced and copied meshes give the same image - path tracer and photons") {
+  // The emissive quads light the floor: through shadow rays (path) and through photons alone
+  // (PPM, whose photons start on the instanced lights). Region by region (4×4 pixels) the two
+  // files' images agree within their noise.
+  auto a = loadGltf(threeQuads(true, true).write("instanced-lit.gltf"));
+  auto b = loadGltf(threeQuads(false, true).write("copies-lit.gltf"));
+  RenderOptions o;
+  o.width = o.height = 32;
+  for (const char* name : {"path", "ppm"}) {
+    INFO(name);
+    auto image = [&](const Scene& s, uint64_t seed) {
+      RenderOptions r = o;
+      r.seed = seed;
+      if (std::string(name) == "path") {
+        r.spp = 64;
+        return render(s, *makeIntegrator(name, r), r, nullptr);
+      }
+      return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
+    };
+    RegionAgreement r = regions(image(*a, 1), image(*a, 2), image(*b, 3), image(*b, 4), 4, 1e-6);
+    CHECK(r.meanZ2 < 2.0);
+    CHECK(r.worst < 5.0);
+  }
+}

@@ -351,3 +351,25 @@ def test_radiosity_convergence_tabulates_every_budget_and_draws_the_figure(tmp_p
     r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "radiosity_convergence.py"), "--binary",
                         str(tmp_path / "none"), "--out", str(tmp_path / "o2")], capture_output=True, text=True)
     assert r.returncode != 0 and "no photonlab binary" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_load_benchmark_writes_loadable_grids_and_reads_the_bench_table(tmp_path):
+    """load_benchmark.py's files: the grid's triangle count, its normals facing up (the height
+    field's), and 4 placements of one mesh stored once; then its whole table on tiny grids."""
+    import load_benchmark as lb
+    positions, normals, uvs, triangles = lb.grid_arrays(5)
+    assert positions.shape == (25, 3) and triangles.shape == (32, 3)
+    # Counter-clockwise seen from +y: every face normal points up, as the vertex normals do.
+    a, b, c = (positions[triangles[:, k]] for k in range(3))
+    assert (np.cross(b - a, c - a)[:, 1] > 0).all()
+    assert (normals[:, 1] > 0).all()
+    path = str(tmp_path / "g.glb")
+    assert lb.write_glb(path, 5, attributes=True, placements=4) == 128
+    info = subprocess.run([PHOTONLAB, "info", path], check=True, capture_output=True, text=True).stdout
+    assert "triangles: 128 (32 stored" in info and "4 instances" in info
+    rows = lb.bench(PHOTONLAB, path, 1)
+    assert rows["triangles (stored)"] == "128 (32)"
+    # The file's geometry: 25 vertices x (12 + 12 + 8) bytes + 96 indices x 4 bytes.
+    assert float(rows["geometry in the file (MB)"]) == pytest.approx((25 * 32 + 96 * 4) / 1e6, abs=0.05)
+    assert subprocess.run([sys.executable, os.path.join(SCRIPTS, "load_benchmark.py"), "--size", "8", "--repeats", "1",
+                           "--dir", str(tmp_path / "files")], check=True, capture_output=True, text=True).stdout.count("\n") == 5

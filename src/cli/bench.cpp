@@ -3,6 +3,11 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <malloc.h>
+#include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "core/parallel.h"
 #include "core/rng.h"
@@ -252,6 +257,104 @@ int runBench(const std::string& scenePath, int threads, int spp) {
                 st.formFactorSeconds, st.rays / st.formFactorSeconds / 1e6, st.solveSeconds,
                 st.meshSeconds + st.formFactorSeconds + st.solveSeconds, st.matrixBytes / 1e6);
   }
+  return 0;
+}
+
+namespace {
+
+// This process's resident memory now and at its peak (VmRSS, VmHWM), in bytes.
+void residentMemory(uint64_t* now, uint64_t* peak) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  *now = *peak = 0;
+  while (std::getline(f, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) *now = std::stoull(line.substr(6)) * 1024;
+    if (line.rfind("VmHWM:", 0) == 0) *peak = std::stoull(line.substr(6)) * 1024;
+  }
+}
+
+// The file's geometry: the bytes of the elements of every accessor a mesh primitive uses
+// (attributes and indices), each accessor counted once.
+uint64_t geometryBytes(const std::string& path) {
+  // A .glb's JSON chunk (its header's 20 bytes tell where it ends), or the whole .gltf.
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) throw Error(path + ": cannot open");
+  const uint64_t size = uint64_t(f.tellg());
+  f.seekg(0);
+  char header[20] = {};
+  f.read(header, 20);
+  uint64_t offset = 0, length = size;
+  if (f.gcount() == 20 && std::memcmp(header, "glTF", 4) == 0) {
+    uint32_t chunk;
+    std::memcpy(&chunk, header + 12, 4);
+    offset = 20, length = std::min<uint64_t>(chunk, size - 20);
+  }
+  std::string json(size_t(length), '\0');
+  f.clear();
+  f.seekg(std::streamoff(offset));
+  f.read(json.data(), std::streamsize(length));
+  const nlohmann::json doc = nlohmann::json::parse(json);
+  std::set<int> used;
+  const nlohmann::json meshes = doc.value("meshes", nlohmann::json::array());
+  for (const auto& mesh : meshes) {
+    const nlohmann::json primitives = mesh.value("primitives", nlohmann::json::array());
+    for (const auto& prim : primitives) {
+      const nlohmann::json attributes = prim.value("attributes", nlohmann::json::object());
+      for (const auto& [name, index] : attributes.items()) used.insert(index.get<int>());
+      if (prim.contains("indices")) used.insert(prim["indices"].get<int>());
+    }
+  }
+  uint64_t total = 0;
+  for (int i : used) {
+    const auto& a = doc["accessors"][size_t(i)];
+    const int ct = a["componentType"].get<int>();
+    const int size = ct == 5120 || ct == 5121 ? 1 : ct == 5122 || ct == 5123 ? 2 : 4;
+    const std::string type = a["type"].get<std::string>();
+    const int components = type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" ? 4 : 16;
+    total += a["count"].get<uint64_t>() * size * components;
+  }
+  return total;
+}
+
+}  // namespace
+
+// `photonlab bench --load FILE`: how fast a glTF file loads (parse, meshes, BVH: until the scene
+// can be traced) and the memory the load takes at its peak, against the file's geometry.
+int runLoadBench(const std::string& path, int repeats, Scene::BvhLayout bvh) {
+  const uint64_t geometry = geometryBytes(path);
+  double best = 1e30;
+  uint64_t worstPeak = 0;
+  size_t triangles = 0, stored = 0;
+  bool compact = false;
+  for (int r = 0; r < repeats; ++r) {
+    // Reset the peak (VmHWM) to the present: each load's own peak, over what the process held
+    // before it (the libraries, ~125 MB with OpenImageIO's).
+    // Free heap pages go back to the system first, so that the load cannot reuse them unseen.
+    malloc_trim(0);
+    { std::ofstream("/proc/self/clear_refs") << "5"; }
+    uint64_t before, peak, now;
+    residentMemory(&before, &peak);
+    auto t0 = std::chrono::steady_clock::now();
+    GltfLoadOptions options;
+    options.bvh = bvh;
+    std::vector<std::string> warnings;
+    auto scene = loadGltf(path, &warnings, options);
+    best = std::min(best, seconds(t0));
+    residentMemory(&now, &peak);
+    worstPeak = std::max(worstPeak, peak - before);
+    triangles = scene->triangleCount();
+    stored = scene->storedTriangleCount();
+    compact = scene->compactBvh();
+  }
+  std::printf("photonlab bench --load: %s, best of %d\n\n", path.c_str(), repeats);
+  std::printf("| measure | value |\n|---|---|\n");
+  std::printf("| triangles (stored) | %zu (%zu) |\n", triangles, stored);
+  std::printf("| geometry in the file (MB) | %.1f |\n", geometry / 1e6);
+  std::printf("| BVH | %s |\n", compact ? "compact" : "fast");
+  std::printf("| load, until the scene can be traced (s) | %.2f |\n", best);
+  std::printf("| load rate (M triangles/s) | %.2f |\n", triangles / best / 1e6);
+  std::printf("| peak memory of the load (MB) | %.1f |\n", worstPeak / 1e6);
+  std::printf("| peak memory / geometry | %.2fx |\n", double(worstPeak) / double(geometry));
   return 0;
 }
 

@@ -25,6 +25,7 @@
 namespace pl {
 extern const char* const kGitRevision;  // generated at build time (scripts/git_revision.cmake)
 int runBench(const std::string& scenePath, int threads, int spp);
+int runLoadBench(const std::string& path, int repeats, Scene::BvhLayout bvh);
 }
 
 using namespace pl;
@@ -48,8 +49,12 @@ nlohmann::ordered_json jsonValue(const std::string& v) {
   return v;
 }
 
-std::unique_ptr<Scene> loadScene(const std::string& path, const GltfLoadOptions& options = {}) {
+// --bvh on render and info: Embree's BVH layout (GltfLoadOptions::bvh).
+Scene::BvhLayout bvhLayout = Scene::BvhLayout::Auto;
+
+std::unique_ptr<Scene> loadScene(const std::string& path, GltfLoadOptions options = {}) {
   std::vector<std::string> warnings;
+  options.bvh = bvhLayout;
   auto scene = loadGltf(path, &warnings, options);
   for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   return scene;
@@ -203,7 +208,12 @@ int cmdInfo(const std::string& scenePath, const std::string& units) {
   auto scene = loadScene(scenePath, load);
   const Bounds& b = scene->bounds();
   std::printf("scene: %s\n", scenePath.c_str());
-  std::printf("triangles: %zu\n", scene->triangleCount());
+  std::printf("triangles: %zu", scene->triangleCount());
+  if (scene->instanceCount() > 0)
+    std::printf(" (%zu stored: meshes that several nodes place are stored once, %zu instances)", scene->storedTriangleCount(),
+                scene->instanceCount());
+  std::printf("\nBVH: %s\n", scene->compactBvh() ? "compact (--bvh; the default from 1048576 stored triangles)"
+                                                : "fast (--bvh compact halves its memory)");
   if (b.empty()) std::printf("bounds: none (no triangles)\n");
   else std::printf("bounds: [%g, %g, %g] - [%g, %g, %g] m\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
   auto describe = [](const Camera& c) {
@@ -534,6 +544,17 @@ int main(int argc, char** argv) {
   bench->add_option("--scene", benchScene)->capture_default_str();
   bench->add_option("--threads", benchThreads, "Threads for the multi-threaded column (0 = all cores)");
   bench->add_option("--spp", benchSpp, "Path-tracer samples per pixel at 256x256")->capture_default_str();
+  std::string benchLoad;
+  int benchRepeats = 3;
+  bench->add_option("--load", benchLoad,
+                    "Instead: how fast this glTF file loads (until it can be traced) and its peak memory against the "
+                    "file's geometry (scripts/load_benchmark.py)");
+  bench->add_option("--repeats", benchRepeats, "With --load: loads, the best time and the largest peak reported")
+      ->check(CLI::Range(1, 100))->capture_default_str();
+  std::string bvhText = "auto";
+  const std::string bvhHelp = "Embree's BVH: fast, compact (about half its memory, rays ~10% slower), or auto (compact "
+                              "from 2^20 stored triangles on)";
+  for (CLI::App* cmd : {render, info, bench}) cmd->add_option("--bvh", bvhText, bvhHelp)->check(CLI::IsMember({"auto", "fast", "compact"}));
 
   try {
     app.parse(argc, argv);
@@ -548,6 +569,7 @@ int main(int argc, char** argv) {
     std::printf("%s", app.help().c_str());
     return 0;
   }
+  bvhLayout = bvhText == "fast" ? Scene::BvhLayout::Fast : bvhText == "compact" ? Scene::BvhLayout::Compact : Scene::BvhLayout::Auto;
   installInterruptHandlers();  // an interrupt ends the process at once until the work can stop cleanly
   try {
     if (*run) {
@@ -661,6 +683,7 @@ int main(int argc, char** argv) {
     if (*info) return cmdInfo(infoScene, infoUnits);
     if (*compare) return cmdCompare(imagePath, referencePath);
     if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
+    if (*bench && !benchLoad.empty()) return runLoadBench(benchLoad, benchRepeats, bvhLayout);
     if (*bench) return runBench(benchScene, benchThreads, benchSpp);
     if (*integratorsCmd) {
       if (markdown) {

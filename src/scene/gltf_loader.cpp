@@ -113,18 +113,29 @@ class Loader {
     quantized_ = std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(), "KHR_mesh_quantization") !=
                  model_.extensionsUsed.end();
     loadMaterials();
+    std::vector<int> roots;
     int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
     if (!model_.scenes.empty()) {
       if (sceneIndex >= int(model_.scenes.size())) fail("scene", "index " + std::to_string(sceneIndex) + " out of range");
-      for (int root : model_.scenes[sceneIndex].nodes) visit(root, Mat4(1.0f), 0);
+      roots = model_.scenes[sceneIndex].nodes;
     } else {  // no scenes array: every node that is nobody's child is a root
       std::vector<bool> isChild(model_.nodes.size(), false);
       for (auto& n : model_.nodes)
         for (int c : n.children)
           if (c >= 0 && c < int(isChild.size())) isChild[c] = true;
       for (size_t i = 0; i < model_.nodes.size(); ++i)
-        if (!isChild[i]) visit(int(i), Mat4(1.0f), 0);
+        if (!isChild[i]) roots.push_back(int(i));
     }
+    // Which meshes are instanced, and room in the world for the others.
+    meshUses_.assign(model_.meshes.size(), 0);
+    for (int root : roots) countMeshUses(root, 0);
+    size_t vertices = 0, triangles = 0;
+    MeshAttributes attributes;
+    for (size_t i = 0; i < model_.meshes.size(); ++i)
+      if (meshUses_[i] == 1) meshTotals(int(i), &vertices, &triangles, &attributes);
+    scene_->reserve(0, vertices, triangles, attributes);
+    for (int root : roots) visit(root, Mat4(1.0f), 0);
+    releaseFileData();
     addEnvironment();
     const auto& cameras = scene_->fileCameras();
     if (options_.camera >= int(cameras.size()))
@@ -135,6 +146,7 @@ class Loader {
       scene_->setCamera(chosen.camera);
       scene_->cameraSource = chosen.name;
     }
+    scene_->setBvhLayout(options_.bvh);
     scene_->commit();
     if (cameras.empty()) {
       const Bounds& b = scene_->bounds();
@@ -278,20 +290,37 @@ class Loader {
   // The document's JSON: the file (or the fuzzer's bytes), or a .glb's first chunk when its
   // header holds together; "" for anything else (tinygltf then reports what is wrong).
   std::string jsonText() const {
+    // The first 20 bytes tell a .glb (magic, version, length; chunk 0's length and type); only
+    // its JSON chunk is read, not the binary chunk that follows (a large file's geometry).
     std::string bytes;
+    uint64_t fileSize = 0;
+    std::ifstream f;
     if (bytes_) {
-      bytes.assign(reinterpret_cast<const char*>(bytes_), size_);
+      bytes.assign(reinterpret_cast<const char*>(bytes_), std::min<size_t>(size_, 20));
+      fileSize = size_;
     } else {
-      std::ifstream f(path_, std::ios::binary);
-      bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+      f.open(path_, std::ios::binary | std::ios::ate);
+      fileSize = f ? uint64_t(f.tellg()) : 0;
+      f.seekg(0);
+      bytes.resize(size_t(std::min<uint64_t>(fileSize, 20)));
+      f.read(bytes.data(), std::streamsize(bytes.size()));
     }
-    if (bytes.size() < 4 || std::memcmp(bytes.data(), "glTF", 4) != 0) return bytes;
-    uint32_t length, type;  // chunk 0: length, type "JSON", data
-    if (bytes.size() < 20) return "";
-    std::memcpy(&length, bytes.data() + 12, 4);
-    std::memcpy(&type, bytes.data() + 16, 4);
-    if (type != 0x4E4F534A || length > bytes.size() - 20) return "";
-    return bytes.substr(20, length);
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    uint64_t offset = 0, length = fileSize;  // a .gltf: all of it
+    if (binary) {
+      uint32_t chunkLength, type;  // chunk 0: length, type "JSON", data
+      if (bytes.size() < 20) return "";
+      std::memcpy(&chunkLength, bytes.data() + 12, 4);
+      std::memcpy(&type, bytes.data() + 16, 4);
+      if (type != 0x4E4F534A || chunkLength > fileSize - 20) return "";
+      offset = 20, length = chunkLength;
+    }
+    if (bytes_) return std::string(reinterpret_cast<const char*>(bytes_) + offset, size_t(length));
+    bytes.resize(size_t(length));
+    f.seekg(std::streamoff(offset));
+    f.read(bytes.data(), std::streamsize(length));
+    bytes.resize(size_t(f.gcount()));
+    return bytes;
   }
 
   // ---------- accessors ----------
@@ -314,80 +343,112 @@ class Loader {
     return false;
   }
 
-  // Reads accessor `index` as `components` floats per element: floats as stored, integers as
-  // the specification dequantises them (normalised: c/255, c/65535, max(c/127, −1),
-  // max(c/32767, −1); otherwise the integer's value).
-  std::vector<float> readFloats(int index, int components, Attribute attribute, const std::string& what) {
+  // An attribute accessor checked against the file before anything is read or allocated from
+  // it: its elements' place in the buffer, their count and component type.
+  struct ElementView {
+    const unsigned char* base = nullptr;  // null: no bufferView, every element zero (spec)
+    size_t stride = 0, count = 0;
+    int componentType = 0;
+    bool normalized = false;
+    std::string el;  // "accessors[3] (meshes[0].primitives[0].POSITION)", for messages
+  };
+  ElementView attributeView(int index, int components, Attribute attribute, const std::string& what) {
     const tinygltf::Accessor& acc = accessor(index, what);
-    std::string el = "accessors[" + std::to_string(index) + "] (" + what + ")";
+    ElementView v;
+    v.el = "accessors[" + std::to_string(index) + "] (" + what + ")";
     if (tinygltf::GetNumComponentsInType(acc.type) != components)
-      fail(el, "expected " + std::to_string(components) + " components per element");
+      fail(v.el, "expected " + std::to_string(components) + " components per element");
     int ct = acc.componentType;
-    bool isFloat = ct == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    if (!isFloat && !integerAllowed(attribute, ct, acc.normalized))
-      fail(el, "unsupported componentType " + std::to_string(ct) + (acc.normalized ? " (normalized)" : "") +
-                   (quantized_ ? "" : " (integer attributes need KHR_mesh_quantization in extensionsUsed)"));
-    const unsigned char* base;
-    size_t stride;
+    if (ct != TINYGLTF_COMPONENT_TYPE_FLOAT && !integerAllowed(attribute, ct, acc.normalized))
+      fail(v.el, "unsupported componentType " + std::to_string(ct) + (acc.normalized ? " (normalized)" : "") +
+                     (quantized_ ? "" : " (integer attributes need KHR_mesh_quantization in extensionsUsed)"));
     // Validated against the data before anything is allocated from the file's count.
-    bool hasData = elementData(acc, el, &base, &stride);
-    if (!hasData && acc.count > kMaxElementsWithoutData) fail(el, "count " + std::to_string(acc.count) + " without data");
-    std::vector<float> out(acc.count * size_t(components), 0.0f);
-    if (!hasData) return out;  // no bufferView: all zeros (spec)
-    int compSize = tinygltf::GetComponentSizeInBytes(ct);
-    for (size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* e = base + i * stride;
-      for (int c = 0; c < components; ++c) {
-        float v;
-        if (isFloat) {
-          std::memcpy(&v, e + c * compSize, 4);
-        } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-          v = acc.normalized ? e[c] / 255.0f : float(e[c]);
-        } else if (ct == TINYGLTF_COMPONENT_TYPE_BYTE) {
-          int8_t b;
-          std::memcpy(&b, e + c, 1);
-          v = acc.normalized ? std::max(b / 127.0f, -1.0f) : float(b);
-        } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-          uint16_t s;
-          std::memcpy(&s, e + c * compSize, 2);
-          v = acc.normalized ? s / 65535.0f : float(s);
-        } else {
-          int16_t s;
-          std::memcpy(&s, e + c * compSize, 2);
-          v = acc.normalized ? std::max(s / 32767.0f, -1.0f) : float(s);
-        }
-        if (!std::isfinite(v)) fail(el, "element " + std::to_string(i) + " is not finite");
-        out[i * components + c] = v;
-      }
+    if (!elementData(acc, v.el, &v.base, &v.stride)) {
+      v.base = nullptr;
+      if (acc.count > kMaxElementsWithoutData) fail(v.el, "count " + std::to_string(acc.count) + " without data");
     }
-    return out;
+    v.count = acc.count;
+    v.componentType = ct;
+    v.normalized = acc.normalized;
+    return v;
   }
 
-  std::vector<uint32_t> readIndices(int index) {
+  // Reads the elements of a checked accessor as `components` floats each, handing element i to
+  // store(i, values): floats as stored, integers as the specification dequantises them
+  // (normalised: c/255, c/65535, max(c/127, −1), max(c/32767, −1); otherwise the integer's value).
+  template <int components, typename Store>
+  void readElements(const ElementView& v, Store&& store) {
+    float values[components] = {};
+    if (!v.base) {  // no bufferView: all zeros (spec)
+      for (size_t i = 0; i < v.count; ++i) store(i, values);
+      return;
+    }
+    const int ct = v.componentType;
+    const int compSize = tinygltf::GetComponentSizeInBytes(ct);
+    for (size_t i = 0; i < v.count; ++i) {
+      const unsigned char* e = v.base + i * v.stride;
+      if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+        std::memcpy(values, e, sizeof(values));
+      } else {
+        for (int c = 0; c < components; ++c) {
+          if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+            values[c] = v.normalized ? e[c] / 255.0f : float(e[c]);
+          } else if (ct == TINYGLTF_COMPONENT_TYPE_BYTE) {
+            int8_t b;
+            std::memcpy(&b, e + c, 1);
+            values[c] = v.normalized ? std::max(b / 127.0f, -1.0f) : float(b);
+          } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+            uint16_t x;
+            std::memcpy(&x, e + c * compSize, 2);
+            values[c] = v.normalized ? x / 65535.0f : float(x);
+          } else {
+            int16_t x;
+            std::memcpy(&x, e + c * compSize, 2);
+            values[c] = v.normalized ? std::max(x / 32767.0f, -1.0f) : float(x);
+          }
+        }
+      }
+      // One test for every component: a sum of finite floats times 0 is 0, anything else NaN.
+      float check = 0;
+      for (int c = 0; c < components; ++c) check += values[c] - values[c];
+      if (check != 0.0f) fail(v.el, "element " + std::to_string(i) + " is not finite");
+      store(i, values);
+    }
+  }
+
+  // An index accessor, checked: its element count and where they are.
+  ElementView indexView(int index) {
     const tinygltf::Accessor& acc = accessor(index, "indices");
-    std::string el = "accessors[" + std::to_string(index) + "] (indices)";
-    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(el, "indices must be SCALAR");
+    ElementView v;
+    v.el = "accessors[" + std::to_string(index) + "] (indices)";
+    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(v.el, "indices must be SCALAR");
     int ct = acc.componentType;
     if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
         ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-      fail(el, "indices must be unsigned byte, short or int");
-    const unsigned char* base;
-    size_t stride;
-    if (!elementData(acc, el, &base, &stride)) fail(el, "indices without a bufferView");
-    std::vector<uint32_t> out(acc.count, 0);
-    for (size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* e = base + i * stride;
+      fail(v.el, "indices must be unsigned byte, short or int");
+    if (!elementData(acc, v.el, &v.base, &v.stride)) fail(v.el, "indices without a bufferView");
+    v.count = acc.count;
+    v.componentType = ct;
+    return v;
+  }
+  void readIndices(const ElementView& v, uint32_t* out) {
+    const int ct = v.componentType;
+    if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT && v.stride == 4) {
+      std::memcpy(out, v.base, v.count * 4);
+      return;
+    }
+    for (size_t i = 0; i < v.count; ++i) {
+      const unsigned char* e = v.base + i * v.stride;
       if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
         out[i] = e[0];
       } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-        uint16_t s;
-        std::memcpy(&s, e, 2);
-        out[i] = s;
+        uint16_t x;
+        std::memcpy(&x, e, 2);
+        out[i] = x;
       } else {
         std::memcpy(&out[i], e, 4);
       }
     }
-    return out;
   }
 
   const tinygltf::Accessor& accessor(int index, const std::string& what) {
@@ -746,7 +807,7 @@ class Loader {
       if (!isFinite(Vec3(world[c])) || !std::isfinite(world[c][3])) fail(el, "transform is not finite (overflow)");
     if (!withinScene(Vec3(world[3])))
       fail(el, "transform places it beyond 1e7 m from the origin (coordinates are in metres)");
-    if (node.mesh >= 0) addMesh(node.mesh, world);
+    if (node.mesh >= 0) placeMesh(node.mesh, world, el);
     if (node.camera >= 0) addCamera(node.camera, index, world, el);
     if (auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
       double light;
@@ -855,94 +916,181 @@ class Loader {
     }
   }
 
-  void addMesh(int meshIndex, const Mat4& world) {
+  // A primitive photonlab renders (triangles, strips, fans), with its POSITION: nullptr for
+  // points and lines (warned once per primitive, by the caller).
+  static bool isTriangles(const tinygltf::Primitive& prim) {
+    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           prim.mode == TINYGLTF_MODE_TRIANGLE_FAN || prim.mode == -1;
+  }
+  static size_t triangleCount(int mode, size_t indices) {
+    if (mode == TINYGLTF_MODE_TRIANGLES || mode == -1) return indices / 3;
+    return indices >= 2 ? indices - 2 : 0;
+  }
+
+  // Vertices and triangles a mesh will store (accessors checked, nothing read), so that the
+  // scene makes room for all of a prototype's meshes at once.
+  void meshTotals(int meshIndex, size_t* vertices, size_t* triangles, MeshAttributes* attributes) {
+    if (meshIndex < 0 || meshIndex >= int(model_.meshes.size())) return;  // reported when it is placed
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = mesh.primitives[p];
+      auto pos = prim.attributes.find("POSITION");
+      if (!isTriangles(prim) || pos == prim.attributes.end()) continue;
+      std::string el = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
+      size_t n = attributeView(pos->second, 3, Attribute::Position, el + ".POSITION").count;
+      size_t m = prim.indices >= 0 ? indexView(prim.indices).count : n;
+      *vertices += n;
+      *triangles += triangleCount(prim.mode, m);
+      attributes->normals |= prim.attributes.count("NORMAL") > 0;
+      attributes->uvs |= prim.attributes.count("TEXCOORD_0") > 0;
+      attributes->tangents |= prim.attributes.count("TANGENT") > 0;
+    }
+  }
+
+  // How many times the scene places each mesh: a mesh placed more than once is instanced.
+  void countMeshUses(int index, int depth) {
+    if (index < 0 || index >= int(model_.nodes.size()) || depth > 256) return;  // reported by visit()
+    const tinygltf::Node& node = model_.nodes[size_t(index)];
+    if (node.mesh >= 0 && node.mesh < int(model_.meshes.size())) ++meshUses_[size_t(node.mesh)];
+    for (int child : node.children) countMeshUses(child, depth + 1);
+  }
+
+  // Places mesh `meshIndex` with the node's transform: stored in world space when the scene
+  // places it once; otherwise stored once in its own space (at its first placement) and placed
+  // as an instance.
+  void placeMesh(int meshIndex, const Mat4& world, const std::string& nodeElement) {
     if (meshIndex >= int(model_.meshes.size())) fail("mesh", "index " + std::to_string(meshIndex) + " out of range");
-    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    if (meshUses_[size_t(meshIndex)] <= 1) {
+      addMesh(meshIndex, world, 0);
+      return;
+    }
+    auto found = prototypes_.find(meshIndex);
+    if (found == prototypes_.end()) {
+      uint32_t prototype = scene_->addPrototype();
+      size_t vertices = 0, triangles = 0;
+      MeshAttributes attributes;
+      meshTotals(meshIndex, &vertices, &triangles, &attributes);
+      scene_->reserve(prototype, vertices, triangles, attributes);
+      Bounds bounds = addMesh(meshIndex, Mat4(1.0f), prototype);
+      found = prototypes_.emplace(meshIndex, std::make_pair(prototype, bounds)).first;
+    }
+    const Bounds& b = found->second.second;
+    for (int c = 0; c < 8 && !b.empty(); ++c) {
+      Vec3 corner(Vec3(world * glm::vec4((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z, 1.0f)));
+      if (!isFinite(corner) || !withinScene(corner))
+        fail(nodeElement, "places meshes[" + std::to_string(meshIndex) + "] beyond 1e7 m from the origin (coordinates are in metres)");
+    }
+    scene_->addInstance(found->second.first, world);
+  }
+
+  // Appends the mesh's primitives to `prototype` (0: the world, transformed by `world`;
+  // otherwise in the mesh's own space, `world` the identity). Accessors are read straight into
+  // the scene's storage. Returns the bounds of what it stored.
+  Bounds addMesh(int meshIndex, const Mat4& world, uint32_t prototype) {
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
+    const bool transform = prototype == 0;
     glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(world)));
     bool flipWinding = glm::determinant(glm::mat3(world)) < 0;  // mirroring turns CCW into CW
+    Bounds bounds;
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       const tinygltf::Primitive& prim = mesh.primitives[p];
       std::string el = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-          prim.mode != TINYGLTF_MODE_TRIANGLE_FAN && prim.mode != -1) {
+      if (!isTriangles(prim)) {
         warn(el + ": points and lines are not rendered");
         continue;
       }
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(el, "no POSITION attribute");
-      std::vector<float> P = readFloats(pos->second, 3, Attribute::Position, el + ".POSITION");
-      size_t n = P.size() / 3;
-      std::vector<float> N, T;
+      const ElementView P = attributeView(pos->second, 3, Attribute::Position, el + ".POSITION");
+      const size_t n = P.count;
+      ElementView N, T, TG;
+      MeshAttributes attributes;
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-        N = readFloats(it->second, 3, Attribute::Normal, el + ".NORMAL");
-        if (N.size() != P.size()) fail(el + ".NORMAL", "count differs from POSITION");
+        N = attributeView(it->second, 3, Attribute::Normal, el + ".NORMAL");
+        if (N.count != n) fail(el + ".NORMAL", "count differs from POSITION");
+        attributes.normals = true;
       }
       if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) {
-        T = readFloats(it->second, 2, Attribute::TexCoord, el + ".TEXCOORD_0");
-        if (T.size() != 2 * n) fail(el + ".TEXCOORD_0", "count differs from POSITION");
+        T = attributeView(it->second, 2, Attribute::TexCoord, el + ".TEXCOORD_0");
+        if (T.count != n) fail(el + ".TEXCOORD_0", "count differs from POSITION");
+        attributes.uvs = true;
       }
-      std::vector<float> tangentData;
       if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
-        tangentData = readFloats(it->second, 4, Attribute::Tangent, el + ".TANGENT");
-        if (tangentData.size() != 4 * n) fail(el + ".TANGENT", "count differs from POSITION");
+        TG = attributeView(it->second, 4, Attribute::Tangent, el + ".TANGENT");
+        if (TG.count != n) fail(el + ".TANGENT", "count differs from POSITION");
+        attributes.tangents = true;
       }
-      std::vector<uint32_t> idx;
-      if (prim.indices >= 0) {
-        idx = readIndices(prim.indices);
-        for (uint32_t i : idx)
-          if (i >= n) fail(el + ".indices", "index " + std::to_string(i) + " ≥ vertex count " + std::to_string(n));
-      } else {
-        idx.resize(n);
-        for (size_t i = 0; i < n; ++i) idx[i] = uint32_t(i);
-      }
-      std::vector<uint32_t> tris = triangulate(idx, prim.mode, el);
-      if (flipWinding)
-        for (size_t i = 0; i < tris.size(); i += 3) std::swap(tris[i + 1], tris[i + 2]);
-
-      std::vector<Vec3> positions(n), normals(N.empty() ? 0 : n);
-      std::vector<Vec2> uvs(T.empty() ? 0 : n);
-      for (size_t i = 0; i < n; ++i) {
-        positions[i] = Vec3(world * glm::vec4(P[3 * i], P[3 * i + 1], P[3 * i + 2], 1.0f));
-        if (!N.empty()) {
-          Vec3 nn = normalMatrix * Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2]);
-          float len = glm::length(nn);
-          normals[i] = len > 0 ? nn / len : Vec3(0, 1, 0);
-        }
-        if (!T.empty()) uvs[i] = Vec2(T[2 * i], T[2 * i + 1]);
-        if (!isFinite(positions[i])) fail(el + ".POSITION", "not finite after the node transform");
-        if (!withinScene(positions[i]))
-          fail(el + ".POSITION", "vertex " + std::to_string(i) + " lies beyond 1e7 m from the origin (coordinates are in metres)");
-      }
-      // Tangents are directions on the surface: they take the node's linear part (normals its
-      // inverse transpose), and a mirroring transform flips the bitangent's handedness.
-      std::vector<glm::vec4> tangents(tangentData.empty() ? 0 : n);
-      for (size_t i = 0; i < tangents.size(); ++i) {
-        Vec3 t = glm::mat3(world) * Vec3(tangentData[4 * i], tangentData[4 * i + 1], tangentData[4 * i + 2]);
-        float w = tangentData[4 * i + 3] < 0 ? -1.0f : 1.0f;
-        if (!isFinite(t)) fail(el + ".TANGENT", "not finite");
-        tangents[i] = glm::vec4(t, flipWinding ? -w : w);
-      }
+      ElementView I;
+      if (prim.indices >= 0) I = indexView(prim.indices);
+      const size_t m = prim.indices >= 0 ? I.count : n;
+      const bool list = prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1;
+      if (list && m % 3) fail(el, "triangle list of " + std::to_string(m) + " indices (not a multiple of 3)");
       int material = prim.material;
       if (material >= int(model_.materials.size())) fail(el + ".material", "index out of range");
-      scene_->addMesh(positions, normals, uvs, tris, material < 0 ? defaultMaterial_ : uint32_t(material), tangents);
+
+      MeshSlot slot = scene_->appendMesh(prototype, n, triangleCount(prim.mode, m),
+                                         material < 0 ? defaultMaterial_ : uint32_t(material), attributes);
+      readElements<3>(P, [&](size_t i, const float* v) {
+        Vec3 x(v[0], v[1], v[2]);
+        if (transform) x = Vec3(world * glm::vec4(x, 1.0f));
+        if (!isFinite(x)) fail(el + ".POSITION", "not finite after the node transform");
+        if (!withinScene(x))
+          fail(el + ".POSITION", "vertex " + std::to_string(i) + " lies beyond 1e7 m from the origin (coordinates are in metres)");
+        slot.positions[i] = x;
+        bounds.extend(x);
+      });
+      if (slot.normals)
+        readElements<3>(N, [&](size_t i, const float* v) {
+          Vec3 nn = normalMatrix * Vec3(v[0], v[1], v[2]);
+          float len = glm::length(nn);
+          slot.normals[i] = len > 0 ? nn / len : Vec3(0, 1, 0);
+        });
+      if (slot.uvs) readElements<2>(T, [&](size_t i, const float* v) { slot.uvs[i] = Vec2(v[0], v[1]); });
+      // Tangents are directions on the surface: they take the node's linear part (normals its
+      // inverse transpose), and a mirroring transform flips the bitangent's handedness.
+      if (slot.tangents)
+        readElements<4>(TG, [&](size_t i, const float* v) {
+          Vec3 t = glm::mat3(world) * Vec3(v[0], v[1], v[2]);
+          float w = v[3] < 0 ? -1.0f : 1.0f;
+          if (!isFinite(t)) fail(el + ".TANGENT", "not finite");
+          slot.tangents[i] = glm::vec4(t, flipWinding ? -w : w);
+        });
+
+      // Indices: a list straight into the scene; strips and fans through their triangles, every
+      // other strip triangle reversed to keep counter-clockwise winding.
+      std::vector<uint32_t> idx;
+      uint32_t* out = slot.indices;
+      if (!list) {
+        idx.resize(m);
+        out = idx.data();
+      }
+      if (prim.indices >= 0) {
+        readIndices(I, out);
+        for (size_t i = 0; i < m; ++i)
+          if (out[i] >= n) fail(el + ".indices", "index " + std::to_string(out[i]) + " ≥ vertex count " + std::to_string(n));
+      } else {
+        for (size_t i = 0; i < m; ++i) out[i] = uint32_t(i);
+      }
+      if (!list) {
+        uint32_t* t = slot.indices;
+        for (size_t i = 2; i < m; ++i, t += 3) {
+          if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) t[0] = idx[0], t[1] = idx[i - 1], t[2] = idx[i];
+          else if (i % 2 == 0) t[0] = idx[i - 2], t[1] = idx[i - 1], t[2] = idx[i];
+          else t[0] = idx[i - 1], t[1] = idx[i - 2], t[2] = idx[i];
+        }
+      }
+      if (flipWinding)
+        for (size_t i = 0; i < 3 * slot.triangles; i += 3) std::swap(slot.indices[i + 1], slot.indices[i + 2]);
+      scene_->finishMesh();
     }
+    return bounds;
   }
 
-  std::vector<uint32_t> triangulate(const std::vector<uint32_t>& idx, int mode, const std::string& el) {
-    if (mode == TINYGLTF_MODE_TRIANGLES || mode == -1) {
-      if (idx.size() % 3) fail(el, "triangle list of " + std::to_string(idx.size()) + " indices (not a multiple of 3)");
-      return idx;
-    }
-    std::vector<uint32_t> out;
-    for (size_t i = 2; i < idx.size(); ++i) {
-      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {  // every other triangle reversed to keep CCW
-        if (i % 2 == 0) out.insert(out.end(), {idx[i - 2], idx[i - 1], idx[i]});
-        else out.insert(out.end(), {idx[i - 1], idx[i - 2], idx[i]});
-      } else {  // fan
-        out.insert(out.end(), {idx[0], idx[i - 1], idx[i]});
-      }
-    }
-    return out;
+  // The file's buffers and decoded images once the scene holds what it needs of them (meshes
+  // read, textures converted): a large file's geometry is not kept twice.
+  void releaseFileData() {
+    for (tinygltf::Buffer& b : model_.buffers) std::vector<unsigned char>().swap(b.data);
+    for (tinygltf::Image& im : model_.images) std::vector<unsigned char>().swap(im.image);
   }
 
   std::string path_;
@@ -959,6 +1107,8 @@ class Loader {
   uint32_t defaultMaterial_ = 0;
   std::map<int, std::shared_ptr<const Image>> images_;
   std::map<int, std::shared_ptr<const Image>> linearImages_;  // the same images undecoded (data textures)
+  std::vector<uint32_t> meshUses_;  // per mesh, how many nodes place it
+  std::map<int, std::pair<uint32_t, Bounds>> prototypes_;  // instanced mesh: its prototype and bounds
 };
 
 }  // namespace

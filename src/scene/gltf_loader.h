@@ -25,6 +25,9 @@ struct GltfLoadOptions {
   // "radiometric" or "photometric" (--units), or empty: the file's asset.extras.photonlab.units,
   // and photometric for a file without it (the glTF specification's units; README, Scenes).
   std::string units;
+  // Embree's BVH: fast, compact (about half the memory, slower rays), or compact only for
+  // scenes of Scene::kCompactTriangles stored triangles and more (--bvh).
+  Scene::BvhLayout bvh = Scene::BvhLayout::Auto;
 };
 
 // Photometric light values (cd, lx, nits) in radiometric units (W/sr, W/m², W/(m²·sr)): divided

@@ -21,10 +21,14 @@ uint64_t Scene::raysTraced() { return finishedThreadRays.load() + rayCounter.cou
 Scene::Scene() {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw Error("Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+  prototypes_.emplace_back();  // prototype 0: the world
+  instances_.emplace_back();   // instance 0: the world as it is
 }
 
 Scene::~Scene() {
   if (rtcScene_) rtcReleaseScene(rtcScene_);
+  for (Prototype& p : prototypes_)
+    if (p.rtc) rtcReleaseScene(p.rtc);
   if (device_) rtcReleaseDevice(device_);
 }
 
@@ -37,62 +41,155 @@ void Scene::addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>&
                     const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material,
                     const std::vector<glm::vec4>& tangents) {
   if (indices.size() % 3) throw Error("mesh index count is not a multiple of 3");
+  if (!normals.empty() && normals.size() != positions.size()) throw Error("mesh normal count differs from its positions");
+  if (!uvs.empty() && uvs.size() != positions.size()) throw Error("mesh uv count differs from its positions");
+  if (!tangents.empty() && tangents.size() != positions.size()) throw Error("mesh tangent count differs from its positions");
+  MeshAttributes a;
+  a.normals = !normals.empty();
+  a.uvs = !uvs.empty();
+  a.tangents = !tangents.empty();
+  MeshSlot slot = appendMesh(0, positions.size(), indices.size() / 3, material, a);
+  std::copy(positions.begin(), positions.end(), slot.positions);
+  std::copy(indices.begin(), indices.end(), slot.indices);
+  if (slot.normals) std::copy(normals.begin(), normals.end(), slot.normals);
+  if (slot.uvs) std::copy(uvs.begin(), uvs.end(), slot.uvs);
+  if (slot.tangents && !tangents.empty()) std::copy(tangents.begin(), tangents.end(), slot.tangents);
+  finishMesh();
+}
+
+uint32_t Scene::addPrototype() {
+  if (committed_) throw Error("scene already committed");
+  prototypes_.emplace_back();
+  return uint32_t(prototypes_.size() - 1);
+}
+
+void Scene::addInstance(uint32_t prototype, const Mat4& objectToWorld) {
+  if (committed_) throw Error("scene already committed");
+  if (prototype == 0 || prototype >= prototypes_.size()) throw Error("instance of an unknown prototype");
+  Instance inst;
+  inst.prototype = prototype;
+  inst.toWorld = objectToWorld;
+  inst.linear = glm::mat3(objectToWorld);
+  inst.normalMatrix = glm::transpose(glm::inverse(inst.linear));
+  inst.mirrors = glm::determinant(inst.linear) < 0;
+  instances_.push_back(std::move(inst));
+}
+
+namespace {
+// Grows v to n elements, keeping one more element's room: Embree reads a shared vertex buffer's
+// last vertex with a 16-byte load. Capacity at least doubles, so appends stay linear.
+template <typename T>
+void growTo(std::vector<T>& v, size_t n) {
+  if (v.capacity() < n + 1) v.reserve(std::max(n + 1, 2 * v.capacity()));
+  v.resize(n);
+}
+}  // namespace
+
+void Scene::reserve(uint32_t prototype, size_t vertices, size_t triangles, const MeshAttributes& extra) {
+  Prototype& p = prototypes_.at(prototype);
+  p.positions.reserve(p.positions.size() + vertices + 1);
+  p.indices.reserve(p.indices.size() + 3 * triangles);
+  if (extra.normals) p.normals.reserve(p.normals.size() + vertices + 1);
+  if (extra.uvs) p.uvs.reserve(p.uvs.size() + vertices + 1);
+  if (extra.tangents) p.tangents.reserve(p.tangents.size() + vertices + 1);
+}
+
+MeshSlot Scene::appendMesh(uint32_t prototype, size_t vertices, size_t triangles, uint32_t material,
+                           const MeshAttributes& attributes) {
+  if (committed_) throw Error("scene already committed");
+  if (meshOpen_) throw Error("appendMesh before the previous mesh was finished");
+  if (prototype >= prototypes_.size()) throw Error("mesh of an unknown prototype");
   if (material >= materials_.size()) throw Error("mesh refers to an unknown material");
-  uint32_t base = uint32_t(positions_.size());
-  bool smooth = !normals.empty();
-  for (size_t i = 0; i < positions.size(); ++i) {
+  Prototype& p = prototypes_[prototype];
+  if (p.positions.size() + vertices > UINT32_MAX || p.indices.size() / 3 + triangles > UINT32_MAX / 3)
+    throw Error("more than 4 billion vertices or triangles in one mesh group");
+  Part part;
+  part.firstVertex = uint32_t(p.positions.size());
+  part.vertexCount = uint32_t(vertices);
+  part.firstTriangle = uint32_t(p.indices.size() / 3);
+  part.triangleCount = uint32_t(triangles);
+  part.material = material;
+  MeshSlot slot;
+  slot.vertices = vertices;
+  slot.triangles = triangles;
+  growTo(p.positions, p.positions.size() + vertices);
+  growTo(p.indices, p.indices.size() + 3 * triangles);
+  slot.positions = p.positions.data() + part.firstVertex;
+  slot.indices = p.indices.data() + 3 * size_t(part.firstTriangle);
+  if (attributes.normals) {
+    part.firstNormal = int64_t(p.normals.size());
+    growTo(p.normals, p.normals.size() + vertices);
+    slot.normals = p.normals.data() + part.firstNormal;
+  }
+  if (attributes.uvs) {
+    part.firstUV = int64_t(p.uvs.size());
+    growTo(p.uvs, p.uvs.size() + vertices);
+    slot.uvs = p.uvs.data() + part.firstUV;
+  }
+  // Tangents matter only to a normal-mapped material with texture coordinates: stored for those
+  // alone, given (slot.tangents to fill) or generated by finishMesh().
+  if (materials_[material].normalMap && attributes.uvs) {
+    part.firstTangent = int64_t(p.tangents.size());
+    growTo(p.tangents, p.tangents.size() + vertices);
+    if (attributes.tangents) slot.tangents = p.tangents.data() + part.firstTangent;
+    else std::fill(p.tangents.begin() + part.firstTangent, p.tangents.end(), glm::vec4(-2.0f));  // marks "generate"
+  }
+  p.parts.push_back(part);
+  meshOpen_ = true;
+  lastPrototype_ = prototype;
+  return slot;
+}
+
+void Scene::finishMesh() {
+  if (!meshOpen_) throw Error("finishMesh without appendMesh");
+  meshOpen_ = false;
+  Prototype& proto = prototypes_[lastPrototype_];
+  const Part& part = proto.parts.back();
+  Vec3* positions = proto.positions.data() + part.firstVertex;
+  const uint32_t* indices = proto.indices.data() + 3 * size_t(part.firstTriangle);
+  const size_t n = part.vertexCount;
+  for (size_t i = 0; i < 3 * size_t(part.triangleCount); ++i)
+    if (indices[i] >= n) throw Error("mesh index out of range");
+  Bounds& bounds = lastPrototype_ == 0 ? bounds_ : proto.bounds;
+  for (size_t i = 0; i < n; ++i) {
     // Coordinates within 1e-30 m of zero are zero. Differences of values near FLT_MIN underflow
     // under Embree's flush-to-zero mode, and its spatial-split builder asserts on that (found
     // by fuzzing: a vertex coordinate of 4e-38 aborted the BVH build).
-    Vec3 p = positions[i];
+    Vec3& p = positions[i];
     for (int k = 0; k < 3; ++k)
       if (std::abs(p[k]) < 1e-30f) p[k] = 0.0f;
-    positions_.push_back(p);
-    normals_.push_back(smooth ? glm::normalize(normals[i]) : Vec3(0.0f));
-    uvs_.push_back(uvs.empty() ? Vec2(0.0f) : uvs[i]);
-    bounds_.extend(p);
+    bounds.extend(p);
   }
-  for (size_t i = 0; i < indices.size(); i += 3) {
-    Triangle tri;
-    for (int k = 0; k < 3; ++k) {
-      if (indices[i + k] >= positions.size()) throw Error("mesh index out of range");
-      tri.v[k] = base + indices[i + k];
-    }
-    tri.material = material;
-    tri.smooth = smooth;
-    tri.hasUV = !uvs.empty();
-    tri.hasTangent = materials_[material].normalMap && !uvs.empty();
-    triangles_.push_back(tri);
-  }
-  if (!materials_[material].normalMap || uvs.empty()) return;
-  // Tangents for the normal map. Given (glTF TANGENT): as they are. Otherwise per vertex from
-  // the uvs, t = ∂p/∂u of each triangle, (Δp₁ Δv₂ − Δp₂ Δv₁)/(Δu₁ Δv₂ − Δu₂ Δv₁), summed over
-  // the triangles around it (Lengyel's method), made orthogonal to the normal, with w = +1,
-  // bitangent n × t: what the Khronos glTF sample viewer does for a file without TANGENT.
-  tangents_.resize(positions_.size(), glm::vec4(0.0f));
-  if (!tangents.empty()) {
-    for (size_t i = 0; i < positions.size(); ++i) tangents_[base + i] = tangents[i];
-    return;
-  }
-  std::vector<Vec3> sum(positions.size(), Vec3(0.0f)), faceSum(positions.size(), Vec3(0.0f));
-  for (size_t i = 0; i < indices.size(); i += 3) {
+  Vec3* normals = part.firstNormal >= 0 ? proto.normals.data() + part.firstNormal : nullptr;
+  if (normals)
+    for (size_t i = 0; i < n; ++i) normals[i] = glm::normalize(normals[i]);
+  if (part.firstTangent < 0) return;
+  glm::vec4* tangents = proto.tangents.data() + part.firstTangent;
+  if (n == 0 || tangents[0] != glm::vec4(-2.0f)) return;  // given (glTF TANGENT): as they are
+  // Tangents for the normal map, per vertex from the uvs: t = ∂p/∂u of each triangle,
+  // (Δp₁ Δv₂ − Δp₂ Δv₁)/(Δu₁ Δv₂ − Δu₂ Δv₁), summed over the triangles around it (Lengyel's
+  // method), made orthogonal to the normal, with w = +1, bitangent n × t: what the Khronos glTF
+  // sample viewer does for a file without TANGENT.
+  const Vec2* uvs = proto.uvs.data() + part.firstUV;
+  std::vector<Vec3> sum(n, Vec3(0.0f)), faceSum(n, Vec3(0.0f));
+  for (size_t i = 0; i < 3 * size_t(part.triangleCount); i += 3) {
     const uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
     Vec3 dp1 = positions[b] - positions[a], dp2 = positions[c] - positions[a];
     Vec2 duv1 = uvs[b] - uvs[a], duv2 = uvs[c] - uvs[a];
     float det = duv1.x * duv2.y - duv2.x * duv1.y;
-    Vec3 n = glm::cross(dp1, dp2);
-    for (uint32_t v : {a, b, c}) faceSum[v] += n;
+    Vec3 fn = glm::cross(dp1, dp2);
+    for (uint32_t v : {a, b, c}) faceSum[v] += fn;
     if (std::abs(det) < 1e-20f) continue;  // degenerate uvs: no direction from this triangle
     Vec3 t = (dp1 * duv2.y - dp2 * duv1.y) / det;
     for (uint32_t v : {a, b, c}) sum[v] += t;
   }
-  for (size_t i = 0; i < positions.size(); ++i) {
-    Vec3 n = smooth ? normals_[base + i] : faceSum[i];
-    float nl = glm::length(n);
-    n = nl > 0 ? n / nl : Vec3(0, 0, 1);
-    Vec3 t = sum[i] - n * glm::dot(n, sum[i]);
+  for (size_t i = 0; i < n; ++i) {
+    Vec3 nn = normals ? normals[i] : faceSum[i];
+    float nl = glm::length(nn);
+    nn = nl > 0 ? nn / nl : Vec3(0, 0, 1);
+    Vec3 t = sum[i] - nn * glm::dot(nn, sum[i]);
     float tl = glm::length(t);
-    tangents_[base + i] = tl > 0 ? glm::vec4(t / tl, 1.0f) : glm::vec4(0.0f);
+    tangents[i] = tl > 0 ? glm::vec4(t / tl, 1.0f) : glm::vec4(0.0f);
   }
 }
 
@@ -105,36 +202,98 @@ void Scene::addLight(std::unique_ptr<Light> light) {
   lights_.push_back(std::move(light));
 }
 
-void Scene::commit() {
-  if (committed_) throw Error("scene committed twice");
-  committed_ = true;
-  if (bounds_.empty()) bounds_.extend(Vec3(0.0f));
-  // Offsets scale with the scene so metre- and millimetre-sized scenes both avoid self-hits.
-  epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
+size_t Scene::storedTriangleCount() const {
+  size_t n = 0;
+  for (const Prototype& p : prototypes_) n += p.triangleCount();
+  return n;
+}
 
-  faceNormals_.resize(triangles_.size());
-  for (size_t i = 0; i < triangles_.size(); ++i) {
-    Triangle& tri = triangles_[i];
-    const Vec3 &a = positions_[tri.v[0]], &b = positions_[tri.v[1]], &c = positions_[tri.v[2]];
-    Vec3 n = glm::cross(b - a, c - a);
-    float len = glm::length(n);
-    faceNormals_[i] = len > 0 ? n / len : Vec3(0, 0, 1);
-    const Material& m = materials_[tri.material];
-    if (!isBlack(m.emission) && len > 0) {
+// One AreaLight per emissive triangle of the instance's prototype, in world space (a mirroring
+// instance's corners in swapped order, so that the light faces where its triangle does).
+void Scene::createAreaLights(Instance& inst) {
+  const Prototype& proto = prototypes_[inst.prototype];
+  inst.lights.assign(proto.parts.size(), {});
+  for (size_t pi = 0; pi < proto.parts.size(); ++pi) {
+    const Part& part = proto.parts[pi];
+    const Material& m = materials_[part.material];
+    if (isBlack(m.emission)) continue;
+    std::vector<int32_t>& lights = inst.lights[pi];
+    lights.assign(part.triangleCount, -1);
+    for (uint32_t t = 0; t < part.triangleCount; ++t) {
+      const uint32_t* idx = &proto.indices[3 * (size_t(part.firstTriangle) + t)];
+      uint32_t v[3] = {part.firstVertex + idx[0], part.firstVertex + idx[1], part.firstVertex + idx[2]};
+      if (inst.mirrors) std::swap(v[1], v[2]);
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k)
+        p[k] = inst.prototype == 0 ? proto.positions[v[k]] : Vec3(inst.toWorld * glm::vec4(proto.positions[v[k]], 1.0f));
+      if (!(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) > 0)) continue;
       std::unique_ptr<AreaLight> light;
       if (m.emissionTexture) {
         auto texture = std::make_shared<EmissionTexture>();
         texture->texture = m.emissionTexture;
-        for (int k = 0; k < 3; ++k) texture->uv[k] = tri.hasUV ? uvs_[tri.v[k]] : Vec2(0.0f);
-        light = std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided, std::move(texture));
+        for (int k = 0; k < 3; ++k)
+          texture->uv[k] = part.firstUV >= 0 ? proto.uvs[size_t(part.firstUV) + v[k] - part.firstVertex] : Vec2(0.0f);
+        light = std::make_unique<AreaLight>(p[0], p[1], p[2], m.emission, m.twoSided, std::move(texture));
         if (isBlack(light->meanRadiance())) continue;  // dark texels are not lights
       } else {
-        light = std::make_unique<AreaLight>(a, b, c, m.emission, m.twoSided);
+        light = std::make_unique<AreaLight>(p[0], p[1], p[2], m.emission, m.twoSided);
       }
-      tri.light = int32_t(lights_.size());
+      lights[t] = int32_t(lights_.size());
       lights_.push_back(std::move(light));
     }
   }
+}
+
+// The prototype's parts as Embree geometries with IDs = part indices, in `into` (the top-level
+// scene for the world) or in a scene of their own; they share the prototype's arrays.
+RTCScene Scene::buildEmbreeScene(uint32_t prototype, RTCScene into) {
+  Prototype& proto = prototypes_[prototype];
+  for (uint32_t pi = 0; pi < proto.parts.size(); ++pi) {
+    const Part& part = proto.parts[pi];
+    if (part.triangleCount == 0) continue;  // its ID stays unused
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, proto.positions.data(),
+                               size_t(part.firstVertex) * sizeof(Vec3), sizeof(Vec3), part.vertexCount);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, proto.indices.data(),
+                               size_t(part.firstTriangle) * 3 * sizeof(uint32_t), 3 * sizeof(uint32_t), part.triangleCount);
+    if (materials_[part.material].alphaMode != AlphaMode::Opaque) {
+      filterData_.push_back({this, prototype, pi});
+      rtcSetGeometryUserData(geom, &filterData_.back());
+      rtcSetGeometryIntersectFilterFunction(geom, &Scene::alphaFilter);
+      rtcSetGeometryOccludedFilterFunction(geom, &Scene::alphaFilter);
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(into, geom, pi);
+    rtcReleaseGeometry(geom);
+  }
+  return into;
+}
+
+void Scene::commit() {
+  if (committed_) throw Error("scene committed twice");
+  if (meshOpen_) throw Error("commit before the last mesh was finished");
+  committed_ = true;
+  // Instances: numbered triangles and bounds (their prototype's box, transformed).
+  uint32_t nextPrimitive = prototypes_[0].triangleCount();
+  for (size_t i = 1; i < instances_.size(); ++i) {
+    Instance& inst = instances_[i];
+    const Prototype& proto = prototypes_[inst.prototype];
+    inst.firstPrimitive = nextPrimitive;
+    if (uint64_t(nextPrimitive) + proto.triangleCount() > UINT32_MAX) throw Error("more than 4 billion triangles in the scene");
+    nextPrimitive += proto.triangleCount();
+    if (proto.bounds.empty()) continue;
+    for (int c = 0; c < 8; ++c) {
+      Vec3 corner((c & 1) ? proto.bounds.hi.x : proto.bounds.lo.x, (c & 2) ? proto.bounds.hi.y : proto.bounds.lo.y,
+                  (c & 4) ? proto.bounds.hi.z : proto.bounds.lo.z);
+      bounds_.extend(Vec3(inst.toWorld * glm::vec4(corner, 1.0f)));
+    }
+  }
+  triangleCount_ = nextPrimitive;
+  if (bounds_.empty()) bounds_.extend(Vec3(0.0f));
+  // Offsets scale with the scene so metre- and millimetre-sized scenes both avoid self-hits.
+  epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
+
+  for (Instance& inst : instances_) createAreaLights(inst);
 
   std::vector<float> weights;
   for (auto& light : lights_) {
@@ -143,38 +302,29 @@ void Scene::commit() {
   }
   lightDistribution_ = AliasTable(weights);
 
-  rtcScene_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
-  // Opaque triangles in one geometry; those whose material has alpha in a second, with the
-  // filter, so opaque traversal pays nothing for it.
-  std::vector<uint32_t> opaque, cutout;
-  for (uint32_t i = 0; i < triangles_.size(); ++i)
-    (materials_[triangles_[i].material].alphaMode == AlphaMode::Opaque ? opaque : cutout).push_back(i);
-  for (const std::vector<uint32_t>* part : {&opaque, &cutout}) {
-    if (part->empty()) continue;
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), positions_.size()));
-    auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(uint32_t), part->size()));
-    if (!vb || !ib) throw Error("Embree: out of memory for " + std::to_string(triangles_.size()) + " triangles");
-    for (size_t i = 0; i < positions_.size(); ++i) {
-      vb[3 * i] = positions_[i].x;
-      vb[3 * i + 1] = positions_[i].y;
-      vb[3 * i + 2] = positions_[i].z;
+  compact_ = bvhLayout_ == BvhLayout::Compact || (bvhLayout_ == BvhLayout::Auto && storedTriangleCount() >= kCompactTriangles);
+  auto newScene = [&] {
+    RTCScene scene = rtcNewScene(device_);
+    // The compact layout (index-referencing leaves) about halves the BVH's memory; with it the
+    // medium-quality build, whose peak memory is the compact tree's own (measured: README, Scenes).
+    if (compact_) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_COMPACT);
+    rtcSetSceneBuildQuality(scene, compact_ ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
+    return scene;
+  };
+  rtcScene_ = buildEmbreeScene(0, newScene());
+  const unsigned firstInstanceID = unsigned(prototypes_[0].parts.size());
+  for (size_t i = 1; i < instances_.size(); ++i) {
+    Prototype& proto = prototypes_[instances_[i].prototype];
+    if (!proto.rtc) {
+      proto.rtc = buildEmbreeScene(instances_[i].prototype, newScene());
+      rtcCommitScene(proto.rtc);
     }
-    for (size_t i = 0; i < part->size(); ++i)
-      for (int k = 0; k < 3; ++k) ib[3 * i + k] = triangles_[(*part)[i]].v[k];
-    if (part == &cutout) {
-      rtcSetGeometryUserData(geom, this);
-      rtcSetGeometryIntersectFilterFunction(geom, &Scene::alphaFilter);
-      rtcSetGeometryOccludedFilterFunction(geom, &Scene::alphaFilter);
-    }
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geom, proto.rtc);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &instances_[i].toWorld[0][0]);
     rtcCommitGeometry(geom);
-    unsigned id = rtcAttachGeometry(rtcScene_, geom);
+    rtcAttachGeometryByID(rtcScene_, geom, unsigned(firstInstanceID + i - 1));
     rtcReleaseGeometry(geom);
-    if (geometryTriangles_.size() <= id) geometryTriangles_.resize(id + 1);
-    if (part->size() != triangles_.size()) geometryTriangles_[id] = *part;
   }
   rtcCommitScene(rtcScene_);
   RTCError err = rtcGetDeviceError(device_);
@@ -224,7 +374,12 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   ++rayCounter.count;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-  *hit = surfaceAt(triangleOf(rh.hit.geomID, rh.hit.primID), rh.hit.u, rh.hit.v);  // Embree: p = (1 − u − v) v0 + u v1 + v v2
+  // Embree: p = (1 − u − v) v0 + u v1 + v v2. A hit inside an instance names the instance's
+  // geometry in instID[0] and the part within its prototype in geomID.
+  const unsigned instID = rh.hit.instID[0];
+  const Instance& inst = instID == RTC_INVALID_GEOMETRY_ID ? instances_[0]
+                                                           : instances_[instID - prototypes_[0].parts.size() + 1];
+  *hit = surfaceOf(inst, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
   hit->t = rh.ray.tfar;
   return true;
 }
@@ -264,10 +419,16 @@ uint64_t bitsOf(float f) {
 }
 }  // namespace
 
-bool Scene::presentAt(uint32_t triangle, float b1, float b2, uint64_t rayHash) const {
-  const Triangle& tri = triangles_[triangle];
-  const Material& m = materials_[tri.material];
-  Vec2 uv = tri.hasUV ? (1 - b1 - b2) * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
+bool Scene::presentAt(const Prototype& proto, const Part& part, uint32_t primID, float b1, float b2,
+                      uint64_t rayHash) const {
+  const Material& m = materials_[part.material];
+  const uint32_t triangle = part.firstTriangle + primID;
+  Vec2 uv(0.0f);
+  if (part.firstUV >= 0) {
+    const uint32_t* idx = &proto.indices[3 * size_t(triangle)];
+    const Vec2* uvs = proto.uvs.data() + part.firstUV;
+    uv = (1 - b1 - b2) * uvs[idx[0]] + b1 * uvs[idx[1]] + b2 * uvs[idx[2]];
+  }
   float alpha = m.alpha ? m.alpha->eval(uv) : 1.0f;
   if (m.alphaMode == AlphaMode::Mask) return alpha >= m.alphaCutoff;
   // BLEND: present with probability alpha, decided by a hash of the ray and where it crosses
@@ -278,57 +439,133 @@ bool Scene::presentAt(uint32_t triangle, float b1, float b2, uint64_t rayHash) c
 }
 
 void Scene::alphaFilter(const RTCFilterFunctionNArguments* args) {
-  const Scene* scene = static_cast<const Scene*>(args->geometryUserPtr);
+  const FilterData& data = *static_cast<const FilterData*>(args->geometryUserPtr);
+  const Prototype& proto = data.scene->prototypes_[data.prototype];
+  const Part& part = proto.parts[data.part];
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned N = args->N;
     uint64_t ray = mix64(bitsOf(RTCRayN_org_x(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_org_y(args->ray, N, i)));
     ray = mix64(ray ^ bitsOf(RTCRayN_org_z(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_x(args->ray, N, i)));
     ray = mix64(ray ^ bitsOf(RTCRayN_dir_y(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_z(args->ray, N, i)));
-    uint32_t triangle = scene->triangleOf(RTCHitN_geomID(args->hit, N, i), RTCHitN_primID(args->hit, N, i));
-    if (!scene->presentAt(triangle, RTCHitN_u(args->hit, N, i), RTCHitN_v(args->hit, N, i), ray)) args->valid[i] = 0;
+    if (!data.scene->presentAt(proto, part, RTCHitN_primID(args->hit, N, i), RTCHitN_u(args->hit, N, i),
+                               RTCHitN_v(args->hit, N, i), ray))
+      args->valid[i] = 0;
   }
 }
 
-SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {
-  const Triangle& tri = triangles_[primitive];
+SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID, float b1, float b2) const {
+  const Prototype& proto = prototypes_[inst.prototype];
+  const Part& part = proto.parts[partIndex];
+  const uint32_t triangle = part.firstTriangle + primID;
+  const uint32_t* idx = &proto.indices[3 * size_t(triangle)];
+  const Vec3* P = proto.positions.data() + part.firstVertex;
+  const Vec3 &a = P[idx[0]], &b = P[idx[1]], &c = P[idx[2]];
+  const bool placed = inst.prototype != 0;  // an instance: object space to world space
   float b0 = 1.0f - b1 - b2;
   SurfaceHit hit;
-  hit.p = b0 * positions_[tri.v[0]] + b1 * positions_[tri.v[1]] + b2 * positions_[tri.v[2]];
-  hit.ng = faceNormals_[primitive];
-  Vec3 ns = hit.ng;
-  if (tri.smooth) {
-    Vec3 n = b0 * normals_[tri.v[0]] + b1 * normals_[tri.v[1]] + b2 * normals_[tri.v[2]];
-    float len = glm::length(n);
-    if (len > 0) ns = n / len;
+  hit.p = b0 * a + b1 * b + b2 * c;
+  Vec3 n = glm::cross(b - a, c - a);
+  float len = glm::length(n);
+  hit.ng = len > 0 ? n / len : Vec3(0, 0, 1);
+  // Normals take the inverse transpose; a mirroring instance's front face stays the object's
+  // counter-clockwise one (the loader swaps world-space triangles' corners for the same reason).
+  if (placed) {
+    hit.p = Vec3(inst.toWorld * glm::vec4(hit.p, 1.0f));
+    hit.ng = glm::normalize(inst.normalMatrix * hit.ng);
   }
-  hit.uv = tri.hasUV ? b0 * uvs_[tri.v[0]] + b1 * uvs_[tri.v[1]] + b2 * uvs_[tri.v[2]] : Vec2(0.0f);
-  if (tri.hasTangent) {
+  Vec3 ns = hit.ng;
+  if (part.firstNormal >= 0) {
+    const Vec3* N = proto.normals.data() + part.firstNormal;
+    Vec3 sn = b0 * N[idx[0]] + b1 * N[idx[1]] + b2 * N[idx[2]];
+    if (placed) sn = inst.normalMatrix * sn;
+    float l = glm::length(sn);
+    if (l > 0) ns = sn / l;
+  }
+  if (part.firstUV >= 0) {
+    const Vec2* uv = proto.uvs.data() + part.firstUV;
+    hit.uv = b0 * uv[idx[0]] + b1 * uv[idx[1]] + b2 * uv[idx[2]];
+  }
+  if (part.firstTangent >= 0) {
     // Normal map: n = normalize(x t + y b + z ns), b = w ns × t, t the interpolated tangent made
     // orthogonal to ns. A mapped normal on the other side of the surface from ns is not used.
-    glm::vec4 t4 = b0 * tangents_[tri.v[0]] + b1 * tangents_[tri.v[1]] + b2 * tangents_[tri.v[2]];
-    Vec3 t = Vec3(t4) - ns * glm::dot(ns, Vec3(t4));
-    float len = glm::length(t);
-    if (len > 0) {
-      t /= len;
-      Vec3 b = (t4.w < 0 ? -1.0f : 1.0f) * glm::cross(ns, t);
-      Vec3 m = materials_[tri.material].normalMap->eval(hit.uv);
-      Vec3 mapped = glm::normalize(m.x * t + m.y * b + m.z * ns);
+    const glm::vec4* T = proto.tangents.data() + part.firstTangent;
+    glm::vec4 t4 = b0 * T[idx[0]] + b1 * T[idx[1]] + b2 * T[idx[2]];
+    Vec3 t3 = Vec3(t4);
+    float w = t4.w < 0 ? -1.0f : 1.0f;
+    if (placed) t3 = inst.linear * t3, w = inst.mirrors ? -w : w;
+    Vec3 t = t3 - ns * glm::dot(ns, t3);
+    float tl = glm::length(t);
+    if (tl > 0) {
+      t /= tl;
+      Vec3 bt = w * glm::cross(ns, t);
+      Vec3 m = materials_[part.material].normalMap->eval(hit.uv);
+      Vec3 mapped = glm::normalize(m.x * t + m.y * bt + m.z * ns);
       if (glm::dot(mapped, hit.ng) * glm::dot(ns, hit.ng) > 0) ns = mapped;
     }
   }
   hit.shading = Frame(ns);
-  hit.barycentric = Vec2(b1, b2);
-  hit.primitive = primitive;
-  hit.bsdf = materials_[tri.material].bsdf.get();
-  hit.lightIndex = tri.light;
-  hit.light = tri.light >= 0 ? static_cast<const AreaLight*>(lights_[tri.light].get()) : nullptr;
+  // Barycentrics in the order trianglePositions() gives the corners (swapped with them for a
+  // mirroring instance).
+  hit.barycentric = inst.mirrors ? Vec2(b2, b1) : Vec2(b1, b2);
+  hit.primitive = inst.firstPrimitive + triangle;
+  hit.bsdf = materials_[part.material].bsdf.get();
+  const std::vector<int32_t>& lights = inst.lights[partIndex];
+  hit.lightIndex = lights.empty() ? -1 : lights[primID];
+  hit.light = hit.lightIndex >= 0 ? static_cast<const AreaLight*>(lights_[size_t(hit.lightIndex)].get()) : nullptr;
   return hit;
 }
 
+void Scene::locate(uint32_t primitive, uint32_t* instance, uint32_t* part, uint32_t* primID) const {
+  if (primitive >= triangleCount_) throw Error("triangle " + std::to_string(primitive) + " out of range");
+  // The last instance whose numbers start at or before `primitive` (instance 0 starts at 0).
+  auto it = std::upper_bound(instances_.begin(), instances_.end(), primitive,
+                             [](uint32_t p, const Instance& i) { return p < i.firstPrimitive; });
+  *instance = uint32_t(it - instances_.begin() - 1);
+  const Instance& inst = instances_[*instance];
+  const std::vector<Part>& parts = prototypes_[inst.prototype].parts;
+  const uint32_t local = primitive - inst.firstPrimitive;
+  auto pt = std::upper_bound(parts.begin(), parts.end(), local, [](uint32_t t, const Part& p) { return t < p.firstTriangle; });
+  // Parts without triangles share their successor's start: take the last part that holds `local`.
+  *part = uint32_t(pt - parts.begin() - 1);
+  *primID = local - parts[*part].firstTriangle;
+}
+
+SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {
+  uint32_t instance, part, primID;
+  locate(primitive, &instance, &part, &primID);
+  const Instance& inst = instances_[instance];
+  return inst.mirrors ? surfaceOf(inst, part, primID, b2, b1) : surfaceOf(inst, part, primID, b1, b2);
+}
+
 std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {
-  const Triangle& tri = triangles_[primitive];
-  return {positions_[tri.v[0]], positions_[tri.v[1]], positions_[tri.v[2]]};
+  uint32_t instance, part, primID;
+  locate(primitive, &instance, &part, &primID);
+  const Instance& inst = instances_[instance];
+  const Prototype& proto = prototypes_[inst.prototype];
+  const Part& pt = proto.parts[part];
+  const uint32_t* idx = &proto.indices[3 * (size_t(pt.firstTriangle) + primID)];
+  std::array<Vec3, 3> v;
+  for (int k = 0; k < 3; ++k) {
+    v[k] = proto.positions[pt.firstVertex + idx[k]];
+    if (inst.prototype != 0) v[k] = Vec3(inst.toWorld * glm::vec4(v[k], 1.0f));
+  }
+  if (inst.mirrors) std::swap(v[1], v[2]);
+  return v;
+}
+
+uint32_t Scene::triangleMaterial(uint32_t primitive) const {
+  uint32_t instance, part, primID;
+  locate(primitive, &instance, &part, &primID);
+  return prototypes_[instances_[instance].prototype].parts[part].material;
+}
+
+const AreaLight* Scene::triangleLight(uint32_t primitive) const {
+  uint32_t instance, part, primID;
+  locate(primitive, &instance, &part, &primID);
+  const std::vector<int32_t>& lights = instances_[instance].lights[part];
+  const int32_t l = lights.empty() ? -1 : lights[primID];
+  return l >= 0 ? static_cast<const AreaLight*>(lights_[size_t(l)].get()) : nullptr;
 }
 
 Ray Scene::spawnRay(const SurfaceHit& hit, const Vec3& d) const {

@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 
 #include <array>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,6 +60,25 @@ struct Bounds {
   float radius() const { return 0.5f * glm::length(hi - lo); }
 };
 
+// What a mesh carries besides positions and triangles (the glTF attributes photonlab reads).
+struct MeshAttributes {
+  bool normals = false;   // NORMAL: smooth shading (without it, the face normal)
+  bool uvs = false;       // TEXCOORD_0
+  bool tangents = false;  // TANGENT (xyz, w = the bitangent's sign); generated from the uvs when a
+                          // normal-mapped mesh has none
+};
+
+// A mesh's storage, filled in place by whoever builds it (Scene::appendMesh): `vertices`
+// positions (and normals, uvs, tangents where asked for) and 3 indices per triangle.
+struct MeshSlot {
+  Vec3* positions = nullptr;
+  Vec3* normals = nullptr;  // null unless asked for
+  Vec2* uvs = nullptr;
+  glm::vec4* tangents = nullptr;
+  uint32_t* indices = nullptr;
+  size_t vertices = 0, triangles = 0;
+};
+
 class Scene {
  public:
   Scene();
@@ -74,6 +94,27 @@ class Scene {
   void addMesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices, uint32_t material,
                const std::vector<glm::vec4>& tangents = {});
+
+  // Instancing: a mesh that several nodes place is stored once, in its own space (a prototype,
+  // its own Embree scene), and placed by instances (Embree instances carrying the transform).
+  // Prototype 0 is the world itself: meshes placed once are stored there, in world space.
+  uint32_t addPrototype();
+  // Places prototype p (≥ 1) with objectToWorld; a mirroring transform (negative determinant)
+  // keeps the object's counter-clockwise faces as front faces, as the glTF loader's world-space
+  // meshes do.
+  void addInstance(uint32_t prototype, const Mat4& objectToWorld);
+  // Room for the meshes still to come in a prototype, so that appendMesh never moves what is
+  // stored (the loader knows every count before it reads anything).
+  void reserve(uint32_t prototype, size_t vertices, size_t triangles, const MeshAttributes& extra);
+  // Room for one mesh in `prototype` (0: the world, in world space): the caller writes its
+  // positions, attributes and indices (counter-clockwise triangles, 0-based within the mesh)
+  // through the slot, then calls finishMesh() before appending anything else.
+  MeshSlot appendMesh(uint32_t prototype, size_t vertices, size_t triangles, uint32_t material,
+                      const MeshAttributes& attributes);
+  // Checks the indices, normalises the normals, generates missing tangents of a normal-mapped
+  // mesh, extends the bounds.
+  void finishMesh();
+
   // At most one environment (EnvironmentLight) among them.
   void addLight(std::unique_ptr<Light> light);
   void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
@@ -83,6 +124,11 @@ class Scene {
     Camera camera;
   };
   void addFileCamera(FileCamera camera) { fileCameras_.push_back(std::move(camera)); }
+  // The acceleration structure: Embree's fast BVH, or its compact one (about half the memory,
+  // rays ~10% slower); Auto takes the compact one from kCompactTriangles stored triangles on.
+  enum class BvhLayout { Auto, Fast, Compact };
+  static constexpr size_t kCompactTriangles = size_t(1) << 20;
+  void setBvhLayout(BvhLayout layout) { bvhLayout_ = layout; }
   // Builds the BVH, one AreaLight per emissive triangle and the light-selection distribution.
   void commit();
 
@@ -93,18 +139,18 @@ class Scene {
   Ray spawnRay(const SurfaceHit& hit, const Vec3& d) const;
   // Shadow ray from hit towards a light sample at `distance` along wi: is it unblocked?
   bool visible(const SurfaceHit& hit, const Vec3& wi, float distance) const;
+  // Triangles are numbered over the whole scene: the world's in the order they were added, then
+  // each instance's copy of its prototype's. triangleCount() counts them all (an instanced mesh
+  // once per placement); storedTriangleCount() counts what is stored.
   // The surface at barycentric (b1, b2) of triangle `primitive`, as intersect() reports a hit
   // there (t left at infinity). For methods that mesh the surfaces themselves (radiosity).
   SurfaceHit surfaceAt(uint32_t primitive, float b1, float b2) const;
   // A triangle's corners (world space) and material index.
   std::array<Vec3, 3> trianglePositions(uint32_t primitive) const;
-  uint32_t triangleMaterial(uint32_t primitive) const { return triangles_[primitive].material; }
+  uint32_t triangleMaterial(uint32_t primitive) const;
   // The area light a triangle is (null if none): an emissive material's triangle, unless its
   // emissive texture is black over it.
-  const AreaLight* triangleLight(uint32_t primitive) const {
-    const int32_t l = triangles_[primitive].light;
-    return l >= 0 ? static_cast<const AreaLight*>(lights_[size_t(l)].get()) : nullptr;
-  }
+  const AreaLight* triangleLight(uint32_t primitive) const;
 
   const Camera& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }
@@ -124,7 +170,10 @@ class Scene {
   const AliasTable& lightDistribution() const { return lightDistribution_; }
   Spectrum totalPower() const;
   const std::vector<Material>& materials() const { return materials_; }
-  size_t triangleCount() const { return triangles_.size(); }
+  size_t triangleCount() const { return triangleCount_; }
+  size_t storedTriangleCount() const;
+  size_t instanceCount() const { return instances_.size() - 1; }
+  bool compactBvh() const { return compact_; }
   const Bounds& bounds() const { return bounds_; }
   float epsilon() const { return epsilon_; }
   RTCScene embreeScene() const { return rtcScene_; }
@@ -134,33 +183,59 @@ class Scene {
   std::string source;  // file it was loaded from, for messages and metadata
 
  private:
-  struct Triangle {
-    uint32_t v[3];
-    uint32_t material;
-    int32_t light = -1;
-    bool smooth = false;  // the mesh has NORMALs
-    bool hasUV = false;   // the mesh has TEXCOORD_0
-    bool hasTangent = false;  // normal-mapped: tangents_ holds its vertices' tangents
+  // One mesh (a glTF primitive): one Embree geometry, one material. Its vertices and triangles
+  // are a range of its prototype's arrays, its indices 0-based within its vertices; each
+  // attribute it has, a range of that attribute's array (−1: it has none).
+  struct Part {
+    uint32_t firstVertex, vertexCount, firstTriangle, triangleCount, material;
+    int64_t firstNormal = -1, firstUV = -1, firstTangent = -1;
+  };
+  struct Prototype {
+    std::vector<Vec3> positions;  // world space for prototype 0, the object's space otherwise
+    std::vector<Vec3> normals;
+    std::vector<Vec2> uvs;
+    std::vector<glm::vec4> tangents;
+    std::vector<uint32_t> indices;  // 3 per triangle, into its part's vertices
+    std::vector<Part> parts;
+    Bounds bounds;
+    RTCScene rtc = nullptr;  // instanced prototypes' own Embree scene
+    uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
+  };
+  // A placement of a prototype. Instance 0 places prototype 0 (the world) as it is.
+  struct Instance {
+    uint32_t prototype = 0;
+    Mat4 toWorld{1.0f};
+    glm::mat3 linear{1.0f}, normalMatrix{1.0f};  // the transform's linear part, its inverse transpose
+    bool mirrors = false;                         // negative determinant
+    uint32_t firstPrimitive = 0;                  // its triangles' numbers start here
+    // Per part of the prototype: per triangle, the index of its AreaLight in lights_ or −1;
+    // empty for a part that is not emissive.
+    std::vector<std::vector<int32_t>> lights;
+  };
+  // Geometry user data for the alpha filter: which part of which prototype.
+  struct FilterData {
+    const Scene* scene;
+    uint32_t prototype, part;
   };
   // Embree filter for triangles whose material is MASK or BLEND: rejects a hit where the
   // surface is absent (alpha below the cutoff; for BLEND, a hash of the ray and the hit point
   // at or above alpha), so traversal goes on past it, for closest hits and shadow rays alike.
   static void alphaFilter(const RTCFilterFunctionNArguments* args);
-  bool presentAt(uint32_t triangle, float b1, float b2, uint64_t rayHash) const;
-  uint32_t triangleOf(unsigned geomID, unsigned primID) const {
-    const auto& map = geometryTriangles_[geomID];
-    return map.empty() ? primID : map[primID];
-  }
+  bool presentAt(const Prototype& proto, const Part& part, uint32_t primID, float b1, float b2, uint64_t rayHash) const;
+  // The surface on triangle primID of the part, placed by the instance.
+  SurfaceHit surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2) const;
+  // Triangle `primitive`'s instance, part and triangle within the part.
+  void locate(uint32_t primitive, uint32_t* instance, uint32_t* part, uint32_t* primID) const;
+  RTCScene buildEmbreeScene(uint32_t prototype, RTCScene into);
+  void createAreaLights(Instance& inst);
+
   RTCDevice device_ = nullptr;
   RTCScene rtcScene_ = nullptr;
-  // Per Embree geometry (opaque triangles first, then the alpha-tested ones), its primitives'
-  // triangle indices; empty when it holds every triangle in order.
-  std::vector<std::vector<uint32_t>> geometryTriangles_;
-  std::vector<Vec3> positions_, normals_;
-  std::vector<Vec2> uvs_;
-  std::vector<glm::vec4> tangents_;  // per vertex; only normal-mapped meshes' are meaningful
-  std::vector<Vec3> faceNormals_;
-  std::vector<Triangle> triangles_;
+  std::vector<Prototype> prototypes_;
+  std::vector<Instance> instances_;
+  // Top-level Embree geometry IDs: the world's parts first (ID = part index), then one instance
+  // geometry per instance 1, 2, …: instance = ID − (world parts) + 1.
+  std::deque<FilterData> filterData_;  // stable addresses for Embree's user pointers
   std::vector<Material> materials_;
   std::vector<std::unique_ptr<Light>> lights_;
   AliasTable lightDistribution_;
@@ -168,7 +243,11 @@ class Scene {
   int environmentIndex_ = -1;
   Camera camera_;
   std::vector<FileCamera> fileCameras_;
-  bool hasCamera_ = false, committed_ = false;
+  bool hasCamera_ = false, committed_ = false, meshOpen_ = false;
+  uint32_t lastPrototype_ = 0;  // of the open mesh
+  BvhLayout bvhLayout_ = BvhLayout::Auto;
+  bool compact_ = false;
+  size_t triangleCount_ = 0;
   Bounds bounds_;
   float epsilon_ = 1e-4f;
 };
