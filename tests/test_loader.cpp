@@ -810,7 +810,7 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   // The loader's own approximations are said the same way: once for the four materials.
   CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered opaque") == 1);
   CHECK(count("KHR_materials_transmission") == 1);
-  // Core features not read: vertex colours once per file, the occlusion texture once per feature.
+  // A core feature not read: the occlusion texture, once per feature.
   GltfFixture v;
   v.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 0;  // any VEC3 accessor
   v.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
@@ -819,7 +819,7 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   std::vector<std::string> more;
   loadGltf(v.write("colour.gltf"), &more);
   warnings = more;
-  CHECK(count("COLOR_0: 1 primitive(s) with vertex colours; ignored") == 1);
+  CHECK(count("COLOR_0") == 0);  // read (test below), not warned
   CHECK(count("materials[0]: occlusionTexture is ignored") == 1);
 }
 
@@ -1047,4 +1047,77 @@ TEST_CASE("loader: instanced and copied meshes give the same image - path tracer
     CHECK(r.meanZ2 < 2.0);
     CHECK(r.worst < 5.0);
   }
+}
+
+TEST_CASE("loader: COLOR_0 multiplies the base colour per vertex - per pixel through shadow rays, light tracing and photons - and its alpha the coverage") {
+  // The fixture's floor (ρ = 0.5, Lambertian) with COLOR_0 as normalised unsigned bytes, RGBA.
+  // Grey vertex colours c = (0.2, 1.0, 0.6, 0.4) at (−1, −1), (−1, 1), (1, 1), (1, −1) (x, z):
+  // linear in the barycentrics of each of the two triangles (0, 1, 2) and (0, 2, 3). Under a
+  // directional light straight down (E = 3 W/m²) a point reflects L(x) = ρ c(x) E / π, c(x)
+  // interpolated here by hand. Acceptance as the other per-pixel floor tests.
+  auto floorWithColors = [](const std::vector<uint8_t>& rgba) {
+    GltfFixture f;
+    f.bin.resize(88);
+    std::memcpy(f.bin.data() + 72, rgba.data(), 16);
+    f.doc["buffers"][0]["byteLength"] = 88;
+    f.doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 72}, {"byteLength", 16}});
+    f.doc["accessors"].push_back({{"bufferView", 2}, {"componentType", 5121}, {"normalized", true}, {"count", 4}, {"type", "VEC4"}});
+    f.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 2;
+    return f;
+  };
+  const double c[4] = {51 / 255.0, 1.0, 153 / 255.0, 102 / 255.0};
+  GltfFixture f = floorWithColors({51, 51, 51, 255, 255, 255, 255, 255, 153, 153, 153, 255, 102, 102, 102, 255});
+  f.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}, {"intensity", 3.0}};
+  f.doc["nodes"][2]["rotation"] = {-0.7071068, 0, 0, 0.7071068};
+  auto scene = loadGltf(f.write("vertex-colours.gltf"));
+  auto colourAt = [&](const Vec3& x) {
+    // Triangle (0, 1, 2) where z ≥ x (above the diagonal from (−1, −1) to (1, 1)), else (0, 2, 3).
+    const double px = x.x, pz = x.z;
+    if (pz >= px) {  // p = v0 + s (v1 − v0) + t (v2 − v0): v1 − v0 = (0, 2), v2 − v0 = (2, 2)
+      double t = (px + 1) / 2, s = (pz + 1) / 2 - t;
+      return (1 - s - t) * c[0] + s * c[1] + t * c[2];
+    }
+    double s = (pz + 1) / 2, t = (px + 1) / 2 - s;  // v2 − v0 = (2, 2), v3 − v0 = (2, 0)
+    return (1 - s - t) * c[0] + s * c[2] + t * c[3];
+  };
+  auto L = [&](const Vec3& x) { return 0.5 * colourAt(x) * 3.0 / kPi; };
+  const int W = 16;
+  ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
+  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) { checkAgreesPerPixel(renderSeed, expected); };
+  RenderOptions small;
+  small.width = small.height = W;
+  for (const char* name : {"direct", "light"}) {
+    INFO(name);
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      o.spp = std::string(name) == "direct" ? 64 : 512;
+      return render(*scene, *makeIntegrator(name, o), o, nullptr);
+    });
+  }
+  {
+    INFO("photons alone (ppm)");
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
+    });
+  }
+  // Per channel: a colour (1, 0.5, 0.25) everywhere gives ρ·(1, 0.5, 0.25) (byte 128 = 0.50196,
+  // 64 = 0.25098).
+  auto tinted = loadGltf(floorWithColors({255, 128, 64, 255, 255, 128, 64, 255, 255, 128, 64, 255, 255, 128, 64, 255}).write("tint.gltf"));
+  SurfaceHit hit;
+  REQUIRE(tinted->intersect(Ray{Vec3(0.3f, 1, -0.2f), Vec3(0, -1, 0)}, &hit));
+  Spectrum rho = hit.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), bsdfContext(hit)) * kPi;
+  CHECK(rho.r == Approx(0.5).epsilon(1e-5));
+  CHECK(rho.g == Approx(0.5 * 128 / 255.0).epsilon(1e-5));
+  CHECK(rho.b == Approx(0.5 * 64 / 255.0).epsilon(1e-5));
+  // Alpha: a BLEND material with factor 1 and no texture, COLOR_0 alpha 64/255 everywhere: rays
+  // pass with probability 1 − 0.25098 (σ = 0.0031 over 20000 rays; 4σ).
+  GltfFixture b = floorWithColors({255, 255, 255, 64, 255, 255, 255, 64, 255, 255, 255, 64, 255, 255, 255, 64});
+  b.doc["materials"][0]["alphaMode"] = "BLEND";
+  auto blend = loadGltf(b.write("colour-alpha.gltf"));
+  int hits = 0;
+  for (int i = 0; i < 20000; ++i) hits += blend->intersect(Ray{Vec3(0.2f, 1.0f + i * 1e-4f, 0.1f), Vec3(0, -1, 0)}, &hit);
+  CHECK(hits / 20000.0 == Approx(64 / 255.0).margin(4 * 0.0031));
 }

@@ -12,17 +12,21 @@ namespace pl {
 // Refraction compresses radiance by 1/η² but not flux, so the two modes differ there.
 enum class TransportMode { Radiance, Importance };
 
-// Where and how a BSDF is evaluated: the texture coordinates, the path's wavelengths and the
-// quantity transported. From a bare uv: RGB and radiance (tests, RGB-only gathers).
+// Where and how a BSDF is evaluated: the texture coordinates, the vertex colour (glTF COLOR_0,
+// linear RGB: it multiplies the base colour), the path's wavelengths and the quantity
+// transported. From a bare uv: white, RGB and radiance (tests). At a surface point:
+// bsdfContext(hit, ...) in scene/scene.h.
 struct BSDFContext {
   Vec2 uv{0.0f};
   const SampledWavelengths* lambda = &SampledWavelengths::rgb();
   TransportMode mode = TransportMode::Radiance;
+  Spectrum color{1.0f};
 
   BSDFContext() = default;
   BSDFContext(const Vec2& uv) : uv(uv) {}  // NOLINT: implicit on purpose
-  BSDFContext(const Vec2& uv, const SampledWavelengths& lambda, TransportMode mode = TransportMode::Radiance)
-      : uv(uv), lambda(&lambda), mode(mode) {}
+  BSDFContext(const Vec2& uv, const SampledWavelengths& lambda, TransportMode mode = TransportMode::Radiance,
+              const Spectrum& color = Spectrum(1.0f))
+      : uv(uv), lambda(&lambda), mode(mode), color(color) {}
 };
 
 struct BSDFSample {
@@ -46,6 +50,10 @@ class BSDF {
   // True when every lobe is a Dirac delta (mirror, smooth glass): eval and pdf are zero, only
   // sample() can find the reflected/refracted direction.
   virtual bool isDelta() const { return false; }
+  // True when a non-delta lobe transmits (wo and wi on opposite sides: a thin translucent wall).
+  // Estimators that gather light on one side of a surface (photon density estimation) then
+  // gather it from both.
+  virtual bool transmits() const { return false; }
   virtual const char* name() const = 0;
   // Set only by Lambertian (a non-virtual tag, as pbrt-v4 tags its BxDFs): lets the photon
   // tracer, where most hits are diffuse, call Lambertian::sample directly and inline it.

@@ -9,7 +9,7 @@ Spectrum GGXConductor::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
   Vec3 m = glm::normalize(o + i);
-  Spectrum F = fresnelSchlick(F0_.eval(c.uv, *c.lambda), glm::dot(o, m));
+  Spectrum F = fresnelSchlick(F0_.eval(c.uv, *c.lambda, c.color), glm::dot(o, m));
   return F * (ggx_.D(m) * ggx_.G1(o) * ggx_.G1(i) / (4.0f * o.z * i.z));
 }
 

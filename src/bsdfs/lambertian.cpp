@@ -7,7 +7,7 @@ namespace pl {
 Spectrum Lambertian::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
-  return albedo_.eval(c.uv, *c.lambda) * kInvPi;
+  return albedo_.eval(c.uv, *c.lambda, c.color) * kInvPi;
 }
 
 float Lambertian::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const {
@@ -23,7 +23,7 @@ bool Lambertian::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, flo
   if (s->pdf <= 0) return false;
   if (wo.z < 0) wi.z = -wi.z;
   s->wi = wi;
-  s->weight = albedo_.eval(c.uv, *c.lambda);  // (ρ/π)·cosθ / (cosθ/π)
+  s->weight = albedo_.eval(c.uv, *c.lambda, c.color);  // (ρ/π)·cosθ / (cosθ/π)
   s->delta = false;
   return true;
 }

@@ -102,7 +102,7 @@ Spectrum MetallicRoughness::eval(const Vec3& wo, const Vec3& wi, const BSDFConte
 }
 
 Spectrum MetallicRoughness::f(const Point& p, const Vec3& o, const Vec3& i, const BSDFContext& c) const {
-  const Spectrum rho = baseColor_.eval(c.uv, *c.lambda);
+  const Spectrum rho = baseColor_.eval(c.uv, *c.lambda, c.color);
   Vec3 m = glm::normalize(o + i);
   float om = glm::dot(o, m);
   float microfacet = p.ggx.D(m) * p.ggx.G1(o) * p.ggx.G1(i) / (4.0f * o.z * i.z);
@@ -119,8 +119,8 @@ Spectrum MetallicRoughness::f(const Point& p, const Vec3& o, const Vec3& i, cons
 // The specular lobe's share of the sampling: its albedo estimate over the total. The
 // dielectric's is exact (E(μo) and ρ(1 − E(μo))); the metal's is approximated by the mean of
 // its F0, at least 0.04 so a black metal still samples its grazing Fresnel reflection.
-float MetallicRoughness::specularProbability(const Point& p, const Vec2& uv, float cosThetaO) const {
-  Spectrum rho = baseColor_.evalRGB(uv);
+float MetallicRoughness::specularProbability(const Point& p, const BSDFContext& c, float cosThetaO) const {
+  Spectrum rho = baseColor_.evalRGB(c.uv) * c.color;
   float mean = (rho.r + rho.g + rho.b) / 3.0f;
   float E = specularAlbedo(cosThetaO, p.roughness);
   float specular = (1 - p.metallic) * E + p.metallic * std::max(mean, kDielectricF0);
@@ -132,7 +132,7 @@ float MetallicRoughness::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& 
   Vec3 o = wo, i = wi;
   if (!flipToUpperHemisphere(o, i)) return 0.0f;
   const Point p = at(c.uv);
-  float ps = specularProbability(p, c.uv, o.z);
+  float ps = specularProbability(p, c, o.z);
   return ps * p.ggx.pdfReflection(o, i) + (1 - ps) * pdfCosineHemisphere(i);
 }
 
@@ -140,7 +140,7 @@ bool MetallicRoughness::sample(const Vec3& wo, const BSDFContext& c, const Vec2&
   Vec3 o;
   if (!upperHemisphere(wo, &o)) return false;
   const Point p = at(c.uv);  // looked up once for the lobe choice, the pdf and f
-  float ps = specularProbability(p, c.uv, o.z);
+  float ps = specularProbability(p, c, o.z);
   Vec3 wi = uc < ps ? reflect(o, p.ggx.sampleNormal(u)) : sampleCosineHemisphere(u);
   if (wi.z <= 0) return false;
   float pdf = ps * p.ggx.pdfReflection(o, wi) + (1 - ps) * pdfCosineHemisphere(wi);

@@ -47,7 +47,7 @@ class MetallicRoughness final : public BSDF {
   Point at(const Vec2& uv) const;
   // f(o, i) at p, both directions in the upper hemisphere.
   Spectrum f(const Point& p, const Vec3& o, const Vec3& i, const BSDFContext& c) const;
-  float specularProbability(const Point& p, const Vec2& uv, float cosThetaO) const;
+  float specularProbability(const Point& p, const BSDFContext& c, float cosThetaO) const;
 
   ColorTexture baseColor_, metallicRoughness_;
 };

@@ -215,9 +215,9 @@ class VertexConnectionMerging::Tracer {
     const SurfaceHit& hit = v.hit;
     CameraSample cs;
     if (!scene_.camera().sampleWi(hit.p, it_.width, it_.height, &cs)) return;
-    if (glm::dot(cs.wi, hit.ng) * glm::dot(v.wo, hit.ng) <= 0) return;
     const Vec3 woLocal = hit.shading.toLocal(v.wo), wiLocal = hit.shading.toLocal(cs.wi);
-    const BSDFContext bc(hit.uv, lambda, TransportMode::Importance);
+    if (!sidesAgree(hit, v.wo, cs.wi, woLocal, wiLocal)) return;
+    const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
     Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc) *
                  shadingNormalCorrection(woLocal, wiLocal, hit.shading.toLocal(hit.ng), TransportMode::Importance);
     if (isBlack(f)) return;
@@ -344,9 +344,9 @@ class VertexConnectionMerging::Tracer {
     LightSample ls;
     if (!light.sampleLi(hit.p, u, path.lambda, &ls)) return;
     const Vec3 wo = hit.shading.toWorld(woLocal);
-    if (glm::dot(ls.wi, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;
     const Vec3 wiLocal = hit.shading.toLocal(ls.wi);
-    const BSDFContext bc(hit.uv, path.lambda);
+    if (!sidesAgree(hit, wo, ls.wi, woLocal, wiLocal)) return;
+    const BSDFContext bc = bsdfContext(hit, path.lambda);
     Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc);
     if (isBlack(f)) return;
     const float cosZ = std::abs(glm::dot(ls.wi, hit.ng));
@@ -377,14 +377,16 @@ class VertexConnectionMerging::Tracer {
     const float dist = std::sqrt(dist2);
     d /= dist;
     const Vec3 wo = hit.shading.toWorld(woLocal);
-    if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // reflection-only BSDFs
-    if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0) return;
+    // Through a surface only where its BSDF transmits (the test first: it spares the rest).
+    if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !hit.bsdf->transmits()) return;
+    if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0 && !v.hit.bsdf->transmits()) return;
     const Vec3 wiLocal = hit.shading.toLocal(d);
-    const BSDFContext cc(hit.uv, path.lambda);
+    const Vec3 lightWo = v.hit.shading.toLocal(v.wo), lightWi = v.hit.shading.toLocal(-d);
+    if (!sidesAgree(hit, wo, d, woLocal, wiLocal) || !sidesAgree(v.hit, v.wo, -d, lightWo, lightWi)) return;
+    const BSDFContext cc = bsdfContext(hit, path.lambda);
     Spectrum fCamera = hit.bsdf->eval(woLocal, wiLocal, cc);
     if (isBlack(fCamera)) return;
-    const Vec3 lightWo = v.hit.shading.toLocal(v.wo), lightWi = v.hit.shading.toLocal(-d);
-    const BSDFContext lc(v.hit.uv, path.lambda, TransportMode::Importance);
+    const BSDFContext lc = bsdfContext(v.hit, path.lambda, TransportMode::Importance);
     Spectrum fLight = v.hit.bsdf->eval(lightWo, lightWi, lc) *
                       shadingNormalCorrection(lightWo, lightWi, v.hit.shading.toLocal(v.hit.ng), TransportMode::Importance);
     if (isBlack(fLight)) return;
@@ -409,14 +411,17 @@ class VertexConnectionMerging::Tracer {
   // r, each weighed against connecting at either end and merging elsewhere (eqs. 37–39).
   void merge(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, const MergeGrid& grid, Sink& sink) const {
     const Vec3 wo = hit.shading.toWorld(woLocal);
-    const BSDFContext cc(hit.uv, path.lambda);
+    const BSDFContext cc = bsdfContext(hit, path.lambda);
     const bool shadingDiffers = hit.shadingDiffers();
+    const bool transmits = hit.bsdf->transmits();
     const Vec3 ngLocal = hit.shading.toLocal(hit.ng);
     Spectrum sum(0.0f);
     grid.query(hit.p, [&](const MergeVertex& v) {
       if (v.length + path.length > o_.maxDepth + 1) return;
-      if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;  // the other side of the surface
+      // From the other side of the surface only where the BSDF transmits.
+      if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !transmits) return;
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
+      if (transmits && !sidesAgree(hit, wo, v.wo, woLocal, wiLocal)) return;
       Spectrum f = hit.bsdf->eval(woLocal, wiLocal, cc);
       if (shadingDiffers) f *= densityShadingCorrection(wiLocal, ngLocal);
       if (isBlack(f)) return;
@@ -441,7 +446,7 @@ class VertexConnectionMerging::Tracer {
   bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Rng& rng, SubPath& path) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
-    const BSDFContext bc(hit.uv, path.lambda, mode);
+    const BSDFContext bc = bsdfContext(hit, path.lambda, mode);
     Vec2 u(rng.uniform(), rng.uniform());
     if (!hit.bsdf->sample(woLocal, bc, u, rng.uniform(), &bs)) return false;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();

@@ -67,7 +67,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     if (depth >= options_.maxDepth) break;
 
     const Vec3 wo = hit.shading.toLocal(-ray.d);
-    const BSDFContext bc(hit.uv, lambda);
+    const BSDFContext bc = bsdfContext(hit, lambda);
     const bool delta = hit.bsdf->isDelta();
     // The guide at this point, on the side of the surface the path is on (the geometric normal
     // turned towards it); where it knows nothing the BSDF samples alone (α = 1).

@@ -13,11 +13,12 @@ Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& w
   LightSample ls;
   if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
   Vec3 wi = hit.shading.toLocal(ls.wi);
-  const BSDFContext bc(hit.uv, lambda);
+  const BSDFContext bc = bsdfContext(hit, lambda);
   Spectrum f = hit.bsdf->eval(woLocal, wi, bc);
   if (isBlack(f)) return Spectrum(0.0f);
-  // A light below the geometric surface cannot reach it, whatever the shading normal says.
-  if (glm::dot(ls.wi, hit.ng) * glm::dot(hit.shading.toWorld(woLocal), hit.ng) <= 0) return Spectrum(0.0f);
+  // A light below the geometric surface reaches it only through a BSDF that transmits, and then
+  // only if the shading normal agrees.
+  if (!sidesAgree(hit, hit.shading.toWorld(woLocal), ls.wi, woLocal, wi)) return Spectrum(0.0f);
   if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
   float lightPdf = pmf * ls.pdf;
   float weight = 1.0f;

@@ -8,11 +8,11 @@ void LightTracer::connectToCamera(const Scene& scene, const SurfaceHit& hit, con
                                   LightPathContext& path) const {
   CameraSample cs;
   if (!scene.camera().sampleWi(hit.p, path.width, path.height, &cs)) return;
-  // The camera must be on the side the light arrives from (the non-specular BSDFs reflect only),
-  // by the geometric normal as well as the shading one: the shadow rays' rule.
-  if (glm::dot(cs.wi, hit.ng) * glm::dot(wo, hit.ng) <= 0) return;
+  // Reflected towards the camera, or transmitted through a BSDF that transmits, by the geometric
+  // normal as well as the shading one: the shadow rays' rule.
   Vec3 woLocal = hit.shading.toLocal(wo), wiLocal = hit.shading.toLocal(cs.wi);
-  const BSDFContext bc(hit.uv, path.lambda, TransportMode::Importance);
+  if (!sidesAgree(hit, wo, cs.wi, woLocal, wiLocal)) return;
+  const BSDFContext bc = bsdfContext(hit, path.lambda, TransportMode::Importance);
   Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc) *
                shadingNormalCorrection(woLocal, wiLocal, hit.shading.toLocal(hit.ng), TransportMode::Importance);
   if (isBlack(f)) return;
@@ -59,7 +59,7 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
     BSDFSample bs;
     Vec3 woLocal = hit.shading.toLocal(wo);
     Vec2 u(rng.uniform(), rng.uniform());
-    if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, path.lambda, TransportMode::Importance), u, rng.uniform(), &bs))
+    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, path.lambda, TransportMode::Importance), u, rng.uniform(), &bs))
       return;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);

@@ -36,7 +36,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
 
     BSDFSample bs;
     Vec2 u(rng.uniform(), rng.uniform());
-    if (!hit.bsdf->sample(wo, BSDFContext(hit.uv, lambda), u, rng.uniform(), &bs)) break;
+    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), u, rng.uniform(), &bs)) break;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);
     // Reject directions that the shading normal allows but the geometry does not (light leaks).

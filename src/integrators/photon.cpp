@@ -70,7 +70,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
   Vec3 woLocal = hit.shading.toLocal(wo);
   for (int i = 0; i < o_.finalGather; ++i) {
     BSDFSample bs;
-    if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &bs))
+    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &bs))
       continue;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
     Spectrum beta = bs.weight;
@@ -86,7 +86,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
         break;
       }
       BSDFSample s;
-      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), BSDFContext(y.uv, lambda), Vec2(rng.uniform(), rng.uniform()),
+      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), bsdfContext(y, lambda), Vec2(rng.uniform(), rng.uniform()),
                           rng.uniform(), &s))
         break;
       if (s.terminatesSecondary) lambda.terminateSecondary();
@@ -113,7 +113,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     Vec3 woLocal = hit.shading.toLocal(wo);
     if (hit.bsdf->isDelta()) {
       BSDFSample s;
-      if (!hit.bsdf->sample(woLocal, BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
+      if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
         break;
       if (s.terminatesSecondary) lambda.terminateSecondary();
       beta *= s.weight;

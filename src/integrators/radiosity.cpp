@@ -195,7 +195,7 @@ Spectrum RadiosityIntegrator::Li(const Ray& ray, const Scene& scene, SampledWave
   const Vec3 woLocal = hit.shading.toLocal(wo);
   L += estimateDirect(scene, hit, woLocal, lambda, rng, false);
   BSDFSample bs;
-  const BSDFContext context(hit.uv, lambda);
+  const BSDFContext context = bsdfContext(hit, lambda);
   Vec2 u(rng.uniform(), rng.uniform());
   if (!hit.bsdf->sample(woLocal, context, u, rng.uniform(), &bs)) return L;
   const Vec3 wi = hit.shading.toWorld(bs.wi);

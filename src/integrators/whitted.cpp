@@ -19,7 +19,7 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
   int count = 0;
   for (float uc : {0.0f, 0.99999994f}) {
     BSDFSample s;
-    if (!hit.bsdf->sample(wo, BSDFContext(hit.uv, lambda), Vec2(0.5f), uc, &s)) continue;
+    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), Vec2(0.5f), uc, &s)) continue;
     if (s.terminatesSecondary) lambda.terminateSecondary();
     if (count == 1 && glm::all(glm::equal(s.wi, lobes[0].wi))) continue;  // single-lobe BSDF
     lobes[count++] = s;

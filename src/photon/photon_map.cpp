@@ -49,19 +49,21 @@ struct PhotonDistance {
   }
 };
 
-// Accepts a photon when its path type is accepted, it arrived on the query's side, and it lies
-// near the query's tangent plane (when a tolerance is given).
+// Accepts a photon when its path type is accepted, it arrived on the query's side (or either,
+// for a surface that transmits), and it lies near the query's tangent plane (when a tolerance
+// is given).
 struct Filter {
   const std::vector<Photon>& photons;
   Vec3 x, n;
   uint8_t accept;
   float planeTolerance;
+  bool bothSides;
   bool operator()(uint32_t i) const {
     const Photon& p = photons[i];
     if (!((accept >> p.type()) & 1)) return false;
     if (n.x == 0 && n.y == 0 && n.z == 0) return true;
     if (planeTolerance > 0 && std::abs(glm::dot(p.p() - x, n)) > planeTolerance) return false;
-    return glm::dot(p.wi(), n) > 0;
+    return bothSides || glm::dot(p.wi(), n) > 0;
   }
 };
 
@@ -256,20 +258,20 @@ size_t PhotonMap::memoryBytes() const {
 }
 
 void PhotonMap::knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius,
-                    std::vector<Neighbour>* out, float planeTolerance) const {
+                    std::vector<Neighbour>* out, float planeTolerance, bool bothSides) const {
   out->clear();
   if (!tree_ || k <= 0) return;
-  Filter filter{tree_->photons, x, n, accept, planeTolerance};
+  Filter filter{tree_->photons, x, n, accept, planeTolerance, bothSides};
   FilteredKnn result(k, maxRadius > 0 ? maxRadius * maxRadius : INFINITY, filter, out);
   float q[3] = {x.x, x.y, x.z};
   tree_->findNeighbors(result, q);
 }
 
 void PhotonMap::withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius,
-                             std::vector<Neighbour>* out, float planeTolerance) const {
+                             std::vector<Neighbour>* out, float planeTolerance, bool bothSides) const {
   out->clear();
   if (!tree_ || radius <= 0) return;
-  Filter filter{tree_->photons, x, n, accept, planeTolerance};
+  Filter filter{tree_->photons, x, n, accept, planeTolerance, bothSides};
   FilteredRadius result(radius * radius, filter, out);
   float q[3] = {x.x, x.y, x.z};
   tree_->findNeighbors(result, q);
@@ -277,16 +279,16 @@ void PhotonMap::withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float
 
 template <typename Weight>
 Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
-                             GatherStats* stats, Weight&& weight) const {
+                             GatherStats* stats, Weight&& weight, bool bothSides) const {
   thread_local std::vector<Neighbour> neighbours;  // reused: no allocation per gather
   float r2;
   size_t used;
   if (de.radius > 0) {
-    withinRadius(x, n, accept, de.radius, &neighbours, de.planeTolerance);
+    withinRadius(x, n, accept, de.radius, &neighbours, de.planeTolerance, bothSides);
     r2 = de.radius * de.radius;
     used = neighbours.size();
   } else {
-    knn(x, n, accept, de.k, de.maxRadius, &neighbours, de.planeTolerance);
+    knn(x, n, accept, de.k, de.maxRadius, &neighbours, de.planeTolerance, bothSides);
     used = neighbours.size();
     if (used == size_t(de.k)) {
       r2 = neighbours.back().d2;  // the k-th photon defines the disc
@@ -314,14 +316,18 @@ Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const D
                              GatherStats* stats) const {
   Vec3 n = glm::dot(hit.ng, woWorld) >= 0 ? hit.ng : -hit.ng;
   Vec3 wo = hit.shading.toLocal(woWorld);
+  const BSDFContext bc = bsdfContext(hit);
+  // Photons from the other side count where the BSDF transmits: through a thin translucent wall.
+  const bool bothSides = hit.bsdf->transmits();
   if (!hit.shadingDiffers())
     return estimate(hit.p, n, de, accept, stats,
-                    [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), hit.uv); });
+                    [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), bc); }, bothSides);
   const Vec3 ngLocal = hit.shading.toLocal(hit.ng);
   return estimate(hit.p, n, de, accept, stats, [&](const Photon& p) {
     Vec3 wi = hit.shading.toLocal(p.wi());
-    return hit.bsdf->eval(wo, wi, hit.uv) * densityShadingCorrection(wi, ngLocal);
-  });
+    return sidesAgree(hit, woWorld, p.wi(), wo, wi) ? hit.bsdf->eval(wo, wi, bc) * densityShadingCorrection(wi, ngLocal)
+                                                    : Spectrum(0.0f);
+  }, bothSides);
 }
 
 Spectrum PhotonMap::irradiance(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,

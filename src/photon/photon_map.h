@@ -51,10 +51,11 @@ class PhotonMap {
   // zero vector to accept every side) and whose path type is in `accept` (Photon::kAccept*).
   // knn: the k nearest within maxRadius (0 = unbounded), sorted by distance.
   // planeTolerance > 0 (needs a non-zero n): skip photons farther than it from x's tangent plane.
+  // bothSides: photons from either side of n (a surface whose BSDF transmits, BSDF::transmits()).
   void knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius, std::vector<Neighbour>* out,
-           float planeTolerance = 0.0f) const;
+           float planeTolerance = 0.0f, bool bothSides = false) const;
   void withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius, std::vector<Neighbour>* out,
-                    float planeTolerance = 0.0f) const;
+                    float planeTolerance = 0.0f, bool bothSides = false) const;
 
   // Reflected radiance at a surface point towards woWorld, by the estimator configured in `de`.
   // With k-NN and the uniform kernel, the k-th photon sits on the boundary of the disc it
@@ -78,7 +79,7 @@ class PhotonMap {
   bool fluxIsXYZ_ = false;
   template <typename Weight>
   Spectrum estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
-                    GatherStats* stats, Weight&& weight) const;
+                    GatherStats* stats, Weight&& weight, bool bothSides = false) const;
   // The tree owns the photons (nanoflann's adaptor points at them), on the heap so that a
   // PhotonMap can be moved without invalidating that pointer.
   struct Tree;

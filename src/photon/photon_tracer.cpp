@@ -51,7 +51,7 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     float uc = rng.uniform();
     // Diffuse hits, most of them, call Lambertian (final) directly, inlined here: the virtual
     // call and BSDFSample's round trip through memory measured 3–4% of photon tracing.
-    const BSDFContext bc(hit.uv, lambda, TransportMode::Importance);
+    const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
     bool sampled = hit.bsdf->isLambertian() ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
                                             : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
     if (!sampled) return;

@@ -49,7 +49,7 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
       break;
     }
     BSDFSample s;
-    if (!hit.bsdf->sample(hit.shading.toLocal(wo), BSDFContext(hit.uv, lambda), Vec2(rng.uniform(), rng.uniform()),
+    if (!hit.bsdf->sample(hit.shading.toLocal(wo), bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()),
                           rng.uniform(), &s))
       break;
     if (s.terminatesSecondary) lambda.terminateSecondary();
@@ -68,7 +68,8 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   thread_local std::vector<Neighbour> found;
   float R = float(std::sqrt(stats->R2));
   Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
-  map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R);
+  // Photons from the other side count where the BSDF transmits: through a thin translucent wall.
+  map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R, vp.hit.bsdf->transmits());
   Vec3 wo = vp.hit.shading.toLocal(vp.wo);
   const bool shadingDiffers = vp.hit.shadingDiffers();
   const Vec3 ngLocal = vp.hit.shading.toLocal(vp.hit.ng);
@@ -76,8 +77,8 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   for (const Neighbour& nb : found) {
     const Photon& ph = map.photons()[nb.index];
     const Vec3 wi = vp.hit.shading.toLocal(ph.wi());
-    Spectrum f = vp.hit.bsdf->eval(wo, wi, vp.hit.uv);
-    if (shadingDiffers) f *= densityShadingCorrection(wi, ngLocal);
+    Spectrum f = vp.hit.bsdf->eval(wo, wi, bsdfContext(vp.hit));
+    if (shadingDiffers) f *= sidesAgree(vp.hit, vp.wo, ph.wi(), wo, wi) ? densityShadingCorrection(wi, ngLocal) : 0.0f;
     phi += glm::dvec3(vp.beta * f * map.flux(ph)) * photonsPerPass;  // stored flux is Φ/(pmf·M)
   }
   // The statistics persist over all passes: one non-finite BSDF value would poison the pixel

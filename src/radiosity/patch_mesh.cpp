@@ -107,7 +107,7 @@ PatchMesh::PatchMesh(const Scene& scene, float patchSize) : patchSize_(patchSize
     Spectrum reflectance(0.0f);
     if (material.bsdf && material.bsdf->isLambertian()) {
       // f = ρ/π for a Lambertian BSDF, whatever the directions.
-      reflectance = kPi * material.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), BSDFContext(centre.uv));
+      reflectance = kPi * material.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), bsdfContext(centre));
     } else if (material.bsdf && !namedNonDiffuse[materialIndex]) {
       namedNonDiffuse[materialIndex] = true;
       nonDiffuse_.push_back(material.name.empty() ? "#" + std::to_string(materialIndex) : material.name);

@@ -23,7 +23,7 @@ std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int he
         }
         BSDFSample s;
         Vec3 wo = hit.shading.toLocal(-ray.d);
-        if (!hit.bsdf->sample(wo, hit.uv, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
+        if (!hit.bsdf->sample(wo, bsdfContext(hit), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
           break;
         ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
       }

@@ -327,18 +327,20 @@ class Loader {
   // Which integer component types an attribute may have besides float: the core specification's
   // (texture coordinates: normalised unsigned bytes and shorts) and, in a file that uses
   // KHR_mesh_quantization, that extension's (POSITION: any byte or short, normalised or not;
-  // NORMAL: normalised signed bytes and shorts; TEXCOORD_0: any byte or short).
-  enum class Attribute { Position, Normal, Tangent, TexCoord };
+  // NORMAL: normalised signed bytes and shorts; TEXCOORD_0: any byte or short). COLOR_0 may be
+  // normalised unsigned bytes and shorts in the core specification.
+  enum class Attribute { Position, Normal, Tangent, TexCoord, Color };
   bool integerAllowed(Attribute a, int ct, bool normalized) const {
     const bool isUnsigned = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
     const bool isSigned = ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT;
-    if (a == Attribute::TexCoord && isUnsigned && normalized) return true;  // core glTF
+    if ((a == Attribute::TexCoord || a == Attribute::Color) && isUnsigned && normalized) return true;  // core glTF
     if (!quantized_) return false;
     switch (a) {
       case Attribute::Position: return isSigned || isUnsigned;
       case Attribute::Normal:
       case Attribute::Tangent: return isSigned && normalized;
       case Attribute::TexCoord: return isSigned || isUnsigned;
+      case Attribute::Color: return false;
     }
     return false;
   }
@@ -611,10 +613,6 @@ class Loader {
       warn("skins: " + std::to_string(model_.skins.size()) + " ignored (meshes render as their vertices are stored)");
     if (!model_.animations.empty())
       warn("animations: " + std::to_string(model_.animations.size()) + " ignored (the scene renders as its nodes are posed)");
-    size_t coloured = 0;
-    for (const auto& mesh : model_.meshes)
-      for (const auto& prim : mesh.primitives) coloured += prim.attributes.count("COLOR_0");
-    if (coloured) warn("COLOR_0: " + std::to_string(coloured) + " primitive(s) with vertex colours; ignored (base colour alone is used)");
     for (size_t i = 0; i < model_.materials.size(); ++i)
       if (model_.materials[i].occlusionTexture.index >= 0)
         ignoredInMaterial(i, "occlusionTexture is ignored (global illumination computes occlusion)");
@@ -686,11 +684,10 @@ class Loader {
       out.alphaCutoff = float(m.alphaCutoff);
       out.alpha = std::make_shared<AlphaTexture>(alphaFactor, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
                                                  textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"));
-      // Fully opaque everywhere (no alpha channel, factor 1): nothing to test per hit.
-      if (out.alpha->isConstant() && (out.alphaMode == AlphaMode::Mask ? alphaFactor >= out.alphaCutoff : alphaFactor == 1.0f)) {
-        out.alphaMode = AlphaMode::Opaque;
+      // Fully opaque everywhere (no alpha channel, factor 1): nothing to test per hit, unless a
+      // mesh's COLOR_0 brings an alpha of its own (Scene tests only those meshes).
+      if (out.alpha->isConstant() && (out.alphaMode == AlphaMode::Mask ? alphaFactor >= out.alphaCutoff : alphaFactor == 1.0f))
         out.alpha = nullptr;
-      }
     } else if (m.alphaMode != "OPAQUE" && !m.alphaMode.empty()) {
       fail(el + ".alphaMode", "must be OPAQUE, MASK or BLEND, got \"" + m.alphaMode + "\"");
     }
@@ -944,6 +941,7 @@ class Loader {
       attributes->normals |= prim.attributes.count("NORMAL") > 0;
       attributes->uvs |= prim.attributes.count("TEXCOORD_0") > 0;
       attributes->tangents |= prim.attributes.count("TANGENT") > 0;
+      attributes->colors |= prim.attributes.count("COLOR_0") > 0;
     }
   }
 
@@ -1020,6 +1018,15 @@ class Loader {
         if (TG.count != n) fail(el + ".TANGENT", "count differs from POSITION");
         attributes.tangents = true;
       }
+      // COLOR_0: RGB or RGBA, linear, multiplying the base colour (and its alpha the coverage).
+      ElementView C;
+      int colorComponents = 0;
+      if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end()) {
+        colorComponents = tinygltf::GetNumComponentsInType(accessor(it->second, el + ".COLOR_0").type) == 3 ? 3 : 4;
+        C = attributeView(it->second, colorComponents, Attribute::Color, el + ".COLOR_0");
+        if (C.count != n) fail(el + ".COLOR_0", "count differs from POSITION");
+        attributes.colors = true;
+      }
       ElementView I;
       if (prim.indices >= 0) I = indexView(prim.indices);
       const size_t m = prim.indices >= 0 ? I.count : n;
@@ -1055,6 +1062,13 @@ class Loader {
           if (!isFinite(t)) fail(el + ".TANGENT", "not finite");
           slot.tangents[i] = glm::vec4(t, flipWinding ? -w : w);
         });
+
+      // Colours as reflectances: clamped to [0, 1] (a float colour above 1 would create energy).
+      auto unit = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
+      if (slot.colors && colorComponents == 3)
+        readElements<3>(C, [&](size_t i, const float* v) { slot.colors[i] = glm::vec4(unit(v[0]), unit(v[1]), unit(v[2]), 1.0f); });
+      else if (slot.colors)
+        readElements<4>(C, [&](size_t i, const float* v) { slot.colors[i] = glm::vec4(unit(v[0]), unit(v[1]), unit(v[2]), unit(v[3])); });
 
       // Indices: a list straight into the scene; strips and fans through their triangles, every
       // other strip triangle reversed to keep counter-clockwise winding.

@@ -32,7 +32,8 @@ struct Material {
   std::shared_ptr<const ColorTexture> emissionTexture = nullptr;
   AlphaMode alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;
-  std::shared_ptr<const AlphaTexture> alpha = nullptr;  // set unless alphaMode is Opaque
+  // Coverage (MASK, BLEND); null where it is 1 everywhere (then only COLOR_0's alpha can cut).
+  std::shared_ptr<const AlphaTexture> alpha = nullptr;
   std::shared_ptr<const NormalMap> normalMap = nullptr;  // glTF normalTexture, or null
 };
 
@@ -42,6 +43,7 @@ struct SurfaceHit {
   Vec3 ng;       // geometric normal, unit, on the front (counter-clockwise) side
   Frame shading; // shading normal frame (interpolated NORMAL, or ng when the mesh has none)
   Vec2 uv;
+  Spectrum color{1.0f};    // glTF COLOR_0 (linear RGB), white without one: multiplies the base colour
   Vec2 barycentric{0.0f};  // (b1, b2): p = (1 − b1 − b2) v0 + b1 v1 + b2 v2 on the triangle
   uint32_t primitive = 0;
   const BSDF* bsdf = nullptr;
@@ -51,6 +53,20 @@ struct SurfaceHit {
   // that mix the two (photon density estimation, light paths) then need their corrections.
   bool shadingDiffers() const { return shading.n != ng; }
 };
+
+// Light leaks: at `hit`, the shading normal and the geometric one must agree on whether light
+// between world directions wo and wi is reflected (both on one side) or transmitted; a pair they
+// disagree about carries nothing, whatever the BSDF says (woLocal, wiLocal: the same in the
+// shading frame). For a BSDF that only reflects this is the rule "the geometric sides match".
+inline bool sidesAgree(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi, const Vec3& woLocal, const Vec3& wiLocal) {
+  return (glm::dot(wo, hit.ng) * glm::dot(wi, hit.ng) > 0) == (woLocal.z * wiLocal.z > 0);
+}
+
+// The BSDF's context at a surface point: its uv and vertex colour.
+inline BSDFContext bsdfContext(const SurfaceHit& hit, const SampledWavelengths& lambda = SampledWavelengths::rgb(),
+                               TransportMode mode = TransportMode::Radiance) {
+  return BSDFContext(hit.uv, lambda, mode, hit.color);
+}
 
 struct Bounds {
   Vec3 lo{INFINITY}, hi{-INFINITY};
@@ -66,6 +82,7 @@ struct MeshAttributes {
   bool uvs = false;       // TEXCOORD_0
   bool tangents = false;  // TANGENT (xyz, w = the bitangent's sign); generated from the uvs when a
                           // normal-mapped mesh has none
+  bool colors = false;    // COLOR_0 (linear RGBA): multiplies the base colour and its alpha
 };
 
 // A mesh's storage, filled in place by whoever builds it (Scene::appendMesh): `vertices`
@@ -75,6 +92,7 @@ struct MeshSlot {
   Vec3* normals = nullptr;  // null unless asked for
   Vec2* uvs = nullptr;
   glm::vec4* tangents = nullptr;
+  glm::vec4* colors = nullptr;
   uint32_t* indices = nullptr;
   size_t vertices = 0, triangles = 0;
 };
@@ -188,13 +206,14 @@ class Scene {
   // attribute it has, a range of that attribute's array (−1: it has none).
   struct Part {
     uint32_t firstVertex, vertexCount, firstTriangle, triangleCount, material;
-    int64_t firstNormal = -1, firstUV = -1, firstTangent = -1;
+    int64_t firstNormal = -1, firstUV = -1, firstTangent = -1, firstColor = -1;
   };
   struct Prototype {
     std::vector<Vec3> positions;  // world space for prototype 0, the object's space otherwise
     std::vector<Vec3> normals;
     std::vector<Vec2> uvs;
     std::vector<glm::vec4> tangents;
+    std::vector<glm::vec4> colors;
     std::vector<uint32_t> indices;  // 3 per triangle, into its part's vertices
     std::vector<Part> parts;
     Bounds bounds;

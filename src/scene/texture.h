@@ -50,10 +50,12 @@ class ColorTexture {
         transform_(transform), transformed_(!transform.identity()) {}
 
   // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h);
-  // a constant colour's spectrum is tabulated once.
-  Spectrum eval(const Vec2& uv, const SampledWavelengths& lambda) const {
-    if (!lambda.spectral) return evalRGB(uv);
-    if (!spectrum_) return spectralReflectance(evalRGB(uv), lambda);
+  // a constant colour's spectrum is tabulated once. `tint` (a vertex colour, linear RGB)
+  // multiplies the colour before the uplift.
+  Spectrum eval(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint = Spectrum(1.0f)) const {
+    const bool white = tint == Spectrum(1.0f);
+    if (!lambda.spectral) return white ? evalRGB(uv) : evalRGB(uv) * tint;
+    if (!spectrum_ || !white) return spectralReflectance(white ? evalRGB(uv) : evalRGB(uv) * tint, lambda);
     const auto& table = spectrum_->get([&](LazySpectrum::Table& t) {
       const RGBUplift& u = RGBUplift::instance();
       for (int i = 0; i < kCieSamples; ++i) t[i] = u.reflectance(factor_, kLambdaMin + float(i));
