@@ -32,6 +32,20 @@ inline Camera lookingDown(float height, float yfov = 0.8f) {
   return cam;
 }
 
+// Radiance L(ray) along each pixel's camera rays, averaged over the pixel (box filter) on a
+// grid×grid midpoint rule.
+inline ImageRGB expectedImage(const Scene& scene, int W, int H, const std::function<double(const Ray&)>& L, int grid = 6) {
+  ImageRGB img(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      double sum = 0;
+      for (int a = 0; a < grid; ++a)
+        for (int b = 0; b < grid; ++b) sum += L(scene.camera().generateRay(x + (a + 0.5f) / grid, y + (b + 0.5f) / grid, W, H));
+      img.set(x, y, Spectrum(float(sum / (grid * grid))));
+    }
+  return img;
+}
+
 // The floor (y = 0) point seen through each pixel, closed form averaged over the pixel
 // (box filter) on a grid×grid midpoint rule.
 inline ImageRGB expectedFloorImage(const Scene& scene, int W, int H, const std::function<double(const Vec3&)>& L,

@@ -10,6 +10,10 @@
 
 #include <algorithm>
 
+#include "bsdfs/dielectric.h"
+#include "bsdfs/metallic_roughness.h"
+#include "bsdfs/thin_dielectric.h"
+#include "ggx_reference.h"
 #include "lights/directional_light.h"
 #include "lights/environment_light.h"
 #include "lights/spot_light.h"
@@ -500,5 +504,279 @@ TEST_CASE("shading normals: photons scattered by a ceiling with tilted normals l
     CHECK(r.worst < 4.0);
     CHECK(r.meanZ2 < 3.0);
     CHECK((meanOf(a1) + meanOf(a2)) / (meanOf(p1) + meanOf(p2)) == Approx(1.0).epsilon(0.02));
+  }
+}
+
+namespace {
+// Renders by each named integrator at W × W, seeds 1 and 2, and checks them per pixel.
+// `sppm`: its parameters; `vcm`: vcm's, where the default radius and iterations are too few.
+void checkIntegratorsPerPixel(const Scene& scene, const ImageRGB& expected, const std::vector<std::string>& names,
+                              const std::map<std::string, double>& sppmParams = {},
+                              const std::map<std::string, double>& vcmParams = {}) {
+  const int W = expected.width;
+  for (const std::string& name : names) {
+    INFO(name);
+    checkAgreesPerPixel([&](uint64_t seed) {
+      RenderOptions o;
+      o.width = o.height = W;
+      o.seed = seed;
+      if (name == "sppm") return makeWith("sppm", sppmParams, o)->render(scene, o, nullptr);
+      if (name == "vcm" && !vcmParams.empty()) {
+        o.spp = int(vcmParams.at("spp"));
+        return makeWith("vcm", vcmParams, o)->render(scene, o, nullptr);
+      }
+      const int spp = name == "light" ? 4096 : name == "path" ? 256 : 128;
+      o.spp = spp;
+      return makeWith(name, {{"spp", spp}}, o)->render(scene, o, nullptr);
+    }, expected);
+  }
+}
+
+Camera lookingUp(float height, float yfov = 0.8f) {
+  Camera cam;
+  cam.position = Vec3(0, height, 0);
+  cam.forward = Vec3(0, 1, 0);
+  cam.up = Vec3(0, 0, 1);
+  cam.right = glm::cross(cam.forward, cam.up);
+  cam.yfov = yfov;
+  return cam;
+}
+}  // namespace
+
+// ∫ g(cosθ) cosθ dω over the square of half-width `half` at height `height` above a point,
+// centred over it, by the midpoint rule in (θ, φ) up to the square's edge θmax(φ) (φ over one
+// eighth of the turn, by symmetry).
+double overSquare(double height, double half, const std::function<double(double)>& g) {
+  const int nPhi = 90, nTheta = 1500;
+  double sum = 0;
+  for (int a = 0; a < nPhi; ++a) {
+    const double phi = (a + 0.5) / nPhi * kPi / 4;
+    const double thetaMax = std::atan(half / (height * std::cos(phi)));
+    const double dTheta = thetaMax / nTheta;
+    for (int b = 0; b < nTheta; ++b) {
+      const double theta = (b + 0.5) * dTheta, mu = std::cos(theta);
+      sum += g(mu) * mu * std::sin(theta) * dTheta;
+    }
+  }
+  return sum * (kPi / 4 / nPhi) * 8;
+}
+
+TEST_CASE("thin-walled transmission: a rough translucent wall passes the sun to the floor - seen from below it is f_t E - every path") {
+  // A white thin wall (metallic 0, roughness 0.5: α = 0.25, transmission 1) at height h = 0.25
+  // under a directional light straight down (E = 3 W/m²), a floor (ρ = 0.5) below, both 4 m
+  // wide. A wall point sends the sun's light down towards wo (μ = cosθ from straight down) with
+  //   f_t(wo, ŷ) E,  f_t = (1 − F(wo·m)) D(m) G1(μ) G1(1) / (4 μ),  m = normalize(wo − ŷ)
+  // (the light's direction mirrored through the wall; ggx_reference.h's formulas), so the
+  // floor's centre receives E_t = E ∫ f_t(μ) μ dω over the wall's square (GGX's long tail makes
+  // the square's edge matter: 2.7% of an infinite wall's light arrives beyond it). The floor
+  // sends ρ E_f up; the underside reflects the specular layer's albedo E_F(μ) of it back
+  // (Lambertian light: its mirror image of the floor, a square at 2h, bounds the integral), so
+  //   E_f = E_t / (1 − ρ R),  R = (1/π) ∫ E_F(μ) μ dω over that square,  L_floor = ρ E_f / π.
+  // Seen from below at wo the wall shows L(wo) = f_t(wo, ŷ) E + L_floor E_F(μ). The floor's view
+  // needs the sun through the transmission lobe by next-event estimation, photons and light
+  // subpaths; the wall's view needs photons gathered from its other side (BSDF::transmits) and
+  // light tracing's connections through it.
+  const float E = 3.0f, rhoF = 0.5f, half = 2.0f, h = 0.25f, roughness = 0.5f;
+  const double alpha = roughness * roughness;
+  auto ft = [&](double mu) {
+    const glm::dvec3 wo(std::sqrt(1 - mu * mu), -mu, 0), down(0, -1, 0), m = glm::normalize(wo + down);
+    return (1 - schlick004(glm::dot(wo, m))) * ggxD(glm::dot(m, down), alpha) * ggxG1(mu, alpha) * ggxG1(1.0, alpha) / (4 * mu);
+  };
+  const int nodes = 64;  // E_F on nodes of μ, linear between them
+  std::vector<double> EF(nodes + 1);
+  for (int j = 0; j <= nodes; ++j) EF[j] = lobeAlbedo(std::max(1e-3, double(j) / nodes), alpha, true, 200);
+  auto albedoF = [&](double mu) {
+    double f = mu * nodes;
+    int j = std::min(int(f), nodes - 1);
+    return EF[j] + (f - j) * (EF[j + 1] - EF[j]);
+  };
+  const double Et = E * overSquare(h, half, ft), R = overSquare(2 * h, half, albedoF) / kPi;
+  const double Lfloor = rhoF * Et / (1 - rhoF * R) / kPi;
+  auto build = [&](const Camera& camera) {
+    auto scene = std::make_unique<Scene>();
+    addQuad(*scene, {-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, lambertian(*scene, rhoF));
+    uint32_t wall = scene->addMaterial({"thin wall", std::make_unique<MetallicRoughness>(ColorTexture(Spectrum(1.0f)),
+                                        ColorTexture(Spectrum(1, roughness, 0)), ColorTexture(Spectrum(1.0f))), Spectrum(0), false});
+    addQuad(*scene, {-half, h, -half}, {-half, h, half}, {half, h, half}, {half, h, -half}, wall);
+    scene->addLight(std::make_unique<DirectionalLight>(Vec3(0, -1, 0), Spectrum(E)));
+    scene->setCamera(camera);
+    scene->commit();
+    return scene;
+  };
+  const int W = 16;
+  const std::map<std::string, double> sppm = {{"passes", 64}, {"photons_per_pass", 50000}, {"radius", 0.03}};
+  SECTION("the floor, under the wall") {
+    auto scene = build(lookingDown(0.12f, 1.4f));
+    ImageRGB expected = expectedImage(*scene, W, W, [&](const Ray&) { return Lfloor; });
+    checkIntegratorsPerPixel(*scene, expected, {"path", "light", "sppm", "bdpt", "vcm"}, sppm);
+  }
+  SECTION("the wall, from below") {
+    auto scene = build(lookingUp(0.08f, 1.4f));
+    ImageRGB expected = expectedImage(*scene, W, W, [&](const Ray& r) {
+      const double mu = std::abs(r.d.y);
+      return ft(mu) * E + Lfloor * albedoF(mu);
+    });
+    checkIntegratorsPerPixel(*scene, expected, {"path", "light", "sppm", "bdpt", "vcm"}, sppm);
+  }
+}
+
+TEST_CASE("thin-walled transmission: a smooth pane passes (1 − F) T straight through - under a sky and under the sun - every path") {
+  // A pane (ThinDielectric: η = 1.5, F0 = 0.04, tint T = 0.8) at height h over a floor
+  // (ρ = 0.5), the camera above it looking down through it: a pixel sees
+  //   L = (1 − F(μc)) T L_floor + F(μc) L_above,  F(μ) = F0 + (1 − F0)(1 − μ)⁵.
+  // The floor's own light comes back from the pane's underside by mirror reflection: R = (1/π)
+  // ∫ F(μ) μ dω over the floor's mirror image, a square at 2h (2∫F μ dμ = F0 + (1 − F0)/21 for
+  // an infinite one: ∫(1 − μ)⁵ μ dμ = 1/42).
+  //   Under a constant sky L_env, planes 40 m wide (h = 0.5): E_f = L_env ∫ (1 − F(μ)) T μ dω
+  //   over the pane's square, + L_env π − ∫ μ dω (the sky past its edges), + ρ E_f R; L_above =
+  //   L_env. Its light reaches the floor only by BSDF sampling through the delta pane (shadow
+  //   rays are blocked by it): path and bdpt.
+  //   Under the sun E straight down, planes 4 m wide (h = 0.25): E_f = E (1 − F(1)) T + ρ E_f R;
+  //   L_above = 0 (the sun is a direction no camera ray meets). Its light reaches the floor only
+  //   by photons and light subpaths: sppm and vcm.
+  const float T = 0.8f, rhoF = 0.5f;
+  const double F0 = 0.04;
+  auto F = [&](double mu) { return F0 + (1 - F0) * std::pow(1 - mu, 5); };
+  auto build = [&](float half, float h, float cameraHeight, std::unique_ptr<Light> light) {
+    auto scene = std::make_unique<Scene>();
+    addQuad(*scene, {-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, lambertian(*scene, rhoF));
+    uint32_t pane = scene->addMaterial({"pane", std::make_unique<ThinDielectric>(ColorTexture(Spectrum(T)), 1.5f), Spectrum(0), false});
+    addQuad(*scene, {-half, h, -half}, {-half, h, half}, {half, h, half}, {half, h, -half}, pane);
+    scene->addLight(std::move(light));
+    scene->setCamera(lookingDown(cameraHeight));
+    scene->commit();
+    return scene;
+  };
+  const int W = 16;
+  SECTION("under a constant sky") {
+    const double Lenv = 1.0, half = 20, h = 0.5;
+    auto scene = build(float(half), float(h), 1.0f, EnvironmentLight::constant(Spectrum(float(Lenv))));
+    const double R = overSquare(2 * h, half, F) / kPi;
+    const double Ein = Lenv * (overSquare(h, half, [&](double mu) { return (1 - F(mu)) * T; }) + kPi -
+                               overSquare(h, half, [](double) { return 1.0; }));
+    const double Lfloor = rhoF * Ein / (1 - rhoF * R) / kPi;
+    ImageRGB expected = expectedImage(*scene, W, W, [&](const Ray& r) {
+      const double mu = std::abs(r.d.y);
+      return (1 - F(mu)) * T * Lfloor + F(mu) * Lenv;
+    });
+    checkIntegratorsPerPixel(*scene, expected, {"path", "bdpt"});
+  }
+  SECTION("under the sun") {
+    const double E = 3.0, half = 2, h = 0.25;
+    auto scene = build(float(half), float(h), 0.6f, std::make_unique<DirectionalLight>(Vec3(0, -1, 0), Spectrum(float(E))));
+    const double R = overSquare(2 * h, half, F) / kPi;
+    const double Lfloor = rhoF * (E * (1 - F(1.0)) * T) / (1 - rhoF * R) / kPi;
+    ImageRGB expected = expectedImage(*scene, W, W, [&](const Ray& r) { return (1 - F(std::abs(r.d.y))) * T * Lfloor; });
+    // The floor's light is uniform, so wide gathers cost no bias and keep the counts per pixel
+    // (and the skew of their few-photon medians) in hand.
+    checkIntegratorsPerPixel(*scene, expected, {"sppm", "vcm"}, {{"passes", 64}, {"photons_per_pass", 50000}, {"radius", 0.06}},
+                             {{"spp", 512}, {"radius", 0.1}});
+  }
+}
+
+namespace {
+// A closed box of `material`, every face wound counter-clockwise seen from outside.
+void addBox(Scene& scene, const Vec3& lo, const Vec3& hi, uint32_t material) {
+  const Vec3 centre = 0.5f * (lo + hi);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      Vec3 c[4];
+      for (int k = 0; k < 4; ++k) {
+        c[k][axis] = side ? hi[axis] : lo[axis];
+        c[k][u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+        c[k][v] = (k >= 2) ? hi[v] : lo[v];
+      }
+      const Vec3 n = glm::cross(c[1] - c[0], c[2] - c[0]);
+      const Vec3 out = 0.5f * (c[0] + c[2]) - centre;
+      if (glm::dot(n, out) < 0) std::swap(c[1], c[3]);
+      addQuad(scene, c[0], c[1], c[2], c[3], material);
+    }
+}
+}  // namespace
+
+TEST_CASE("KHR_materials_volume attenuation: a glass slab passes (1 − F)² a / (1 − F² a²) - Beer–Lambert on every path, camera side and light side") {
+  // A glass slab (η = 1.5) 0.2 m thick, 2 m wide, whose medium lets through attenuationColor
+  // c = (0.5, 0.7, 0.9) per 0.1 m. A ray crossing it at θ (θ' inside, sinθ' = sinθ/η) goes
+  // D/cosθ' through the medium, a = c^(D / (0.1 cosθ')) one way, and every internal reflection
+  // pair adds F² a², F the exact unpolarised Fresnel reflectance at θ (written out here), so
+  //   T(θ) = (1 − F)² a Σ (F² a²)ⁿ = (1 − F)² a / (1 − F² a²).
+  // Below it, either an emitter (Le = 1, black) seen through it: L = T(θc) Le, which camera
+  // paths carry (their segments inside the glass); or a floor (ρ = 0.05) under the sun (E = 3
+  // straight down): L = T(θc) (ρ/π) E T(0), which needs photons and light subpaths attenuated
+  // too. The floor's own light coming back from the slab, ρ·(the slab's reflectance to diffuse
+  // light, < 0.12), adds at most 0.6%. The camera 1 m up looks down (0.8 rad). Per pixel, green,
+  // and per channel the image means within 1.5% (2% for the sun's photon estimates).
+  const Spectrum c(0.5f, 0.7f, 0.9f);
+  const double eta = 1.5, D = 0.2, distance = 0.1;
+  auto fresnel = [&](double cosI) {
+    const double sinT2 = (1 - cosI * cosI) / (eta * eta), cosT = std::sqrt(1 - sinT2);
+    const double rs = (cosI - eta * cosT) / (cosI + eta * cosT), rp = (eta * cosI - cosT) / (eta * cosI + cosT);
+    return 0.5 * (rs * rs + rp * rp);
+  };
+  auto slabT = [&](double color, double cosTheta) {
+    const double cosInside = std::sqrt(1 - (1 - cosTheta * cosTheta) / (eta * eta));
+    const double a = std::pow(color, D / (distance * cosInside)), F = fresnel(cosTheta);
+    return (1 - F) * (1 - F) * a / (1 - F * F * a * a);
+  };
+  auto build = [&](bool emitter, const Spectrum& color) {
+    auto scene = std::make_unique<Scene>();
+    const float half = 1.0f;
+    if (emitter) {
+      uint32_t m = scene->addMaterial({"emitter", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))), Spectrum(1.0f), false});
+      addQuad(*scene, {-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, m);
+    } else {
+      addQuad(*scene, {-half, 0, -half}, {-half, 0, half}, {half, 0, half}, {half, 0, -half}, lambertian(*scene, 0.05f));
+      scene->addLight(std::make_unique<DirectionalLight>(Vec3(0, -1, 0), Spectrum(3.0f)));
+    }
+    Material glass{"absorbing glass", std::make_unique<Dielectric>(float(eta)), Spectrum(0.0f), false};
+    glass.attenuationColor = ColorTexture(color);
+    glass.attenuationDistance = float(distance);
+    addBox(*scene, {-half, 0.3f, -half}, {half, 0.5f, half}, scene->addMaterial(std::move(glass)));
+    scene->setCamera(lookingDown(1.0f));
+    scene->commit();
+    return scene;
+  };
+  const int W = 16;
+  // expected(ray, channel); `sun`: the photon methods' settings.
+  auto check = [&](const Scene& scene, const std::string& name, const std::function<double(const Ray&, int)>& expected, double margin,
+                   bool spectral = false) {
+    INFO(name << (spectral ? " spectral" : ""));
+    auto image = [&](uint64_t seed) {
+      RenderOptions o;
+      o.width = o.height = W;
+      o.seed = seed;
+      o.spectral = spectral;
+      if (name == "sppm" || name == "ppm")
+        return makeWith(name, {{"passes", 32}, {"photons_per_pass", 100000}, {"radius", 0.02}}, o)->render(scene, o, nullptr);
+      o.spp = name == "vcm" ? 1024 : 64;
+      return makeWith(name, {{"spp", o.spp}, {"photons", 200000}, {"caustic_photons", 400000}, {"radius", 0.05}}, o)
+          ->render(scene, o, nullptr);
+    };
+    ImageRGB a = image(1), b = image(2);
+    for (int k = 0; k < 3; ++k) {
+      ImageRGB e = expectedImage(scene, W, W, [&](const Ray& r) { return expected(r, k); });
+      double mean = 0, meanExpected = 0;
+      for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x) mean += (a.at(x, y)[k] + b.at(x, y)[k]) / 2, meanExpected += e.at(x, y).g;
+      INFO("channel " << k << ": mean " << mean / (W * W) << ", expected " << meanExpected / (W * W));
+      CHECK(mean / meanExpected == Approx(1.0).epsilon(margin));
+      if (k == 1) checkAgreesPerPixel([&](uint64_t seed) { return seed == 1 ? a : b; }, e);
+    }
+  };
+  SECTION("an emitter seen through the slab: camera paths") {
+    auto scene = build(true, c);
+    auto expected = [&](const Ray& r, int k) { return slabT(c[k], std::abs(r.d.y)); };
+    for (const char* name : {"path", "whitted", "bdpt", "vcm", "sppm", "photon"}) check(*scene, name, expected, 0.015);
+    // Spectral: a grey medium (its uplifted spectrum is flat) attenuates every wavelength alike.
+    auto grey = build(true, Spectrum(0.6f));
+    check(*grey, "path", [&](const Ray& r, int) { return slabT(0.6, std::abs(r.d.y)); }, 0.015, true);
+  }
+  SECTION("a floor under the sun, seen through the slab: photons and light subpaths too") {
+    auto scene = build(false, c);
+    auto expected = [&](const Ray& r, int k) { return slabT(c[k], std::abs(r.d.y)) * 0.05 / kPi * 3.0 * slabT(c[k], 1.0); };
+    // Not PPM: its eye pass is traced once, so a pixel whose one camera ray the slab reflected
+    // stays black and the others carry 1/(1 − F)² (right on average, not per pixel).
+    for (const char* name : {"sppm", "vcm", "photon"}) check(*scene, name, expected, 0.02);
   }
 }

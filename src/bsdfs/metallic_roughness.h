@@ -19,18 +19,30 @@ namespace pl {
 // roughness) by quadrature and read piecewise linearly; E_avg = 2∫E(μ) μ dμ of that same
 // piecewise-linear E, so the normalisation is exact for the table that is read.
 //
+// Thin-walled transmission (KHR_materials_transmission without a volume): a fraction t of the
+// diffuse base is replaced by light that passes through the surface unrefracted, the specular
+// layer's lobe mirrored to the other side and weighted by what that layer lets through,
+//   f_t(wo, wi) = (1 − metallic) t baseColor (1 − F_Schlick(0.04, wo·m')) D(m') G1(wo) G1(wi') / (4 |cosθo| |cosθi|),
+// wi' = wi mirrored through the surface plane, m' = normalize(wo + wi'). Reflection and
+// transmission then share one GGX lobe whose F and 1 − F sum to 1: a white thin wall's albedo
+// is the F = 1 lobe's, ≤ 1, and f_t is reciprocal (m' is the same both ways round).
+//
 // Textures: baseColorTexture (sRGB) and metallicRoughnessTexture (linear: G = roughness,
-// B = metallic), each times its factor. Sampled by one-sample MIS between the GGX lobe (D(m)
-// cosθm) and the cosine lobe, chosen by their estimated albedos at wo.
+// B = metallic), each times its factor; transmissionTexture's R times transmissionFactor.
+// Sampled by one-sample MIS between the GGX lobe (D(m) cosθm), the cosine lobe and the mirrored
+// GGX lobe, chosen by their estimated albedos at wo.
 class MetallicRoughness final : public BSDF {
  public:
-  // metallicRoughness: factor (1, roughness, metallic) × the linear texture, if any.
-  MetallicRoughness(ColorTexture baseColor, ColorTexture metallicRoughness)
-      : baseColor_(std::move(baseColor)), metallicRoughness_(std::move(metallicRoughness)) {}
+  // metallicRoughness: factor (1, roughness, metallic) × the linear texture, if any;
+  // transmission: factor t (in every channel) × the linear texture's R, if any.
+  MetallicRoughness(ColorTexture baseColor, ColorTexture metallicRoughness, ColorTexture transmission = ColorTexture(Spectrum(0.0f)))
+      : baseColor_(std::move(baseColor)), metallicRoughness_(std::move(metallicRoughness)), transmission_(std::move(transmission)),
+        transmits_(transmission_.factor().r > 0) {}
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
-  const char* name() const override { return "metallic-roughness"; }
+  const char* name() const override { return transmits_ ? "metallic-roughness, thin-walled transmission" : "metallic-roughness"; }
+  bool transmits() const override { return transmits_; }
 
   // The dielectric specular layer's directional albedo E(μ) at a roughness, and its cosine-
   // weighted mean E_avg (exposed for tests).
@@ -42,14 +54,20 @@ class MetallicRoughness final : public BSDF {
  private:
   struct Point {  // the material at one surface point
     GGX ggx;
-    float roughness, metallic;
+    float roughness, metallic, transmission;
   };
   Point at(const Vec2& uv) const;
-  // f(o, i) at p, both directions in the upper hemisphere.
+  // f(o, i) at p, o in the upper hemisphere, i in it (reflection) or below (transmission).
   Spectrum f(const Point& p, const Vec3& o, const Vec3& i, const BSDFContext& c) const;
-  float specularProbability(const Point& p, const BSDFContext& c, float cosThetaO) const;
+  // The lobes' shares of the sampling at wo: specular reflection, diffuse, transmission.
+  struct LobeProbabilities {
+    float specular, diffuse, transmission;
+  };
+  LobeProbabilities lobeProbabilities(const Point& p, const BSDFContext& c, float cosThetaO) const;
+  float pdf(const Point& p, const LobeProbabilities& lobes, const Vec3& o, const Vec3& i) const;
 
-  ColorTexture baseColor_, metallicRoughness_;
+  ColorTexture baseColor_, metallicRoughness_, transmission_;
+  bool transmits_;
 };
 
 }  // namespace pl

@@ -159,6 +159,11 @@ class VertexConnectionMerging::Tracer {
     for (path.length = 1; path.length <= o_.maxDepth; ++path.length) {
       SurfaceHit hit;
       if (!scene_.intersect(path.ray, &hit)) return;
+      {  // Beer–Lambert through an absorbing volume the edge crossed; roulette sees it too
+        const Spectrum transmittance = scene_.transmittance(hit, path.ray.d, path.lambda);
+        path.beta *= transmittance;
+        path.throughput *= transmittance;
+      }
       const Vec3 wo = -path.ray.d;
       // Complete the partial weights with this edge (eqs. 31–33): the distance and the cosine
       // at y turn the previous vertex's solid-angle densities into area densities at y. A
@@ -250,6 +255,11 @@ class VertexConnectionMerging::Tracer {
       if (!scene_.intersect(path.ray, &hit)) {
         if (scene_.environment()) background(path, sink);  // s = 0, t = length + 1
         return;
+      }
+      {  // Beer–Lambert through an absorbing volume the edge crossed; roulette sees it too
+        const Spectrum transmittance = scene_.transmittance(hit, path.ray.d, path.lambda);
+        path.beta *= transmittance;
+        path.throughput *= transmittance;
       }
       const Vec3 wo = -path.ray.d;
       const float cosIn = std::abs(glm::dot(wo, hit.ng));

@@ -52,6 +52,9 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, scatterPdf);
       break;
     }
+    const Spectrum transmittance = scene.transmittance(hit, ray.d, lambda);
+    beta *= transmittance;
+    rouletteBeta *= transmittance;
 
     // Emission found by sampling: MIS against the next-event estimate made at the previous
     // vertex. Both weights treat the direction as drawn by the BSDF alone (see below).

@@ -52,6 +52,9 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
   for (int depth = 1; depth <= maxDepth_; ++depth) {
     SurfaceHit hit;
     if (!scene.intersect(ray, &hit)) return;
+    const Spectrum transmittance = scene.transmittance(hit, ray.d, path.lambda);
+    beta *= transmittance;
+    throughput *= transmittance;
     const Vec3 wo = -ray.d;
     if (!hit.bsdf->isDelta()) connectToCamera(scene, hit, wo, beta, path);
     if (depth == maxDepth_) return;

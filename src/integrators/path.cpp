@@ -17,6 +17,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
       L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, bsdfPdf);
       break;
     }
+    beta *= scene.transmittance(hit, ray.d, lambda);
 
     // Emission found by BSDF sampling; next-event estimation already counted the same light
     // from the previous vertex, so weight both by MIS.

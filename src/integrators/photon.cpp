@@ -81,6 +81,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
     for (int depth = 0; depth < o_.maxDepth; ++depth) {
       SurfaceHit y;
       if (!scene.intersect(ray, &y)) break;
+      beta *= scene.transmittance(y, ray.d, lambda);
       if (!y.bsdf->isDelta()) {
         sum += beta * maps_.global.radiance(y, -ray.d, lambda, o_.density, Photon::kAcceptAll);
         break;
@@ -108,6 +109,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       if (o_.aov.empty()) L += beta * escapedRadiance(scene, ray.d, lambda, true, 0.0f);
       break;
     }
+    beta *= scene.transmittance(hit, ray.d, lambda);
     Vec3 wo = -ray.d;
     if (hit.light && o_.aov.empty()) L += beta * hit.light->L(hit.uv, wo, lambda);
     Vec3 woLocal = hit.shading.toLocal(wo);

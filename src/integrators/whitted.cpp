@@ -7,11 +7,12 @@ namespace pl {
 Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, int depth) const {
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
+  const Spectrum T = scene.transmittance(hit, ray.d, lambda);
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);
-  if (!hit.bsdf->isDelta()) return L + estimateDirect(scene, hit, wo, lambda, rng, false);
-  if (depth >= maxDepth_) return L;
+  if (!hit.bsdf->isDelta()) return T * (L + estimateDirect(scene, hit, wo, lambda, rng, false));
+  if (depth >= maxDepth_) return T * L;
   // Enumerate the specular lobes deterministically: uc = 0 picks reflection whenever it has
   // any probability, uc → 1 picks transmission whenever it exists. The lobe's contribution is
   // weight × probability (e.g. F·1 for reflection, (1−F)/η² for refraction).
@@ -29,7 +30,7 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
     if (isBlack(w)) continue;
     L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, lambda, rng, depth + 1);
   }
-  return L;
+  return T * L;
 }
 
 static const IntegratorRegistration registration({

@@ -32,6 +32,7 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
   for (int depth = 0; depth <= o.maxDepth; ++depth) {
     SurfaceHit hit;
     if (!scene.intersect(ray, &hit)) return;
+    flux *= scene.transmittance(hit, ray.d, lambda);
     Vec3 wo = -ray.d;
     if (!hit.bsdf->isDelta()) {
       // kDirect at the first hit, kCaustic after specular bounces only, kIndirect otherwise;

@@ -39,6 +39,7 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
       L += beta * escapedRadiance(scene, ray.d, lambda, true, 0.0f);
       break;
     }
+    beta *= scene.transmittance(hit, ray.d, lambda);
     Vec3 wo = -ray.d;
     if (hit.light) L += beta * hit.light->L(hit.uv, wo, lambda);
     if (!hit.bsdf->isDelta()) {

@@ -20,6 +20,7 @@
 #include "bsdfs/metallic_roughness.h"
 #include "bsdfs/mirror.h"
 #include "bsdfs/phong.h"
+#include "bsdfs/thin_dielectric.h"
 #include "lights/directional_light.h"
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
@@ -329,18 +330,20 @@ class Loader {
   // KHR_mesh_quantization, that extension's (POSITION: any byte or short, normalised or not;
   // NORMAL: normalised signed bytes and shorts; TEXCOORD_0: any byte or short). COLOR_0 may be
   // normalised unsigned bytes and shorts in the core specification.
-  enum class Attribute { Position, Normal, Tangent, TexCoord, Color };
+  enum class Attribute { Position, Normal, Tangent, TexCoord, Color, Rotation };
   bool integerAllowed(Attribute a, int ct, bool normalized) const {
     const bool isUnsigned = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
     const bool isSigned = ct == TINYGLTF_COMPONENT_TYPE_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT;
     if ((a == Attribute::TexCoord || a == Attribute::Color) && isUnsigned && normalized) return true;  // core glTF
+    if (a == Attribute::Rotation && isSigned && normalized) return true;  // EXT_mesh_gpu_instancing
     if (!quantized_) return false;
     switch (a) {
       case Attribute::Position: return isSigned || isUnsigned;
       case Attribute::Normal:
       case Attribute::Tangent: return isSigned && normalized;
       case Attribute::TexCoord: return isSigned || isUnsigned;
-      case Attribute::Color: return false;
+      case Attribute::Color:
+      case Attribute::Rotation: return false;
     }
     return false;
   }
@@ -714,8 +717,35 @@ class Loader {
     }
 
     double transmission = 0.0, thickness = 0.0, ior = 1.5;
-    if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) getNumber(*ext, "transmissionFactor", &transmission);
-    if (auto* ext = extension(m.extensions, "KHR_materials_volume")) getNumber(*ext, "thicknessFactor", &thickness);
+    int transmissionTexture = -1;
+    if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) {
+      const std::string te = el + ".KHR_materials_transmission";
+      if (ext->Has("transmissionFactor") && !getNumber(*ext, "transmissionFactor", &transmission))
+        fail(te + ".transmissionFactor", "must be a number");
+      if (!(transmission >= 0 && transmission <= 1)) fail(te + ".transmissionFactor", "must be in [0, 1]");
+      if (ext->Has("transmissionTexture")) {
+        const tinygltf::Value& info = ext->Get("transmissionTexture");
+        double number = -1;
+        if (!getNumber(info, "index", &number)) fail(te + ".transmissionTexture.index", "must be a texture index");
+        transmissionTexture = int(number);
+        if (getNumber(info, "texCoord", &number) && number != 0)
+          ignoredInMaterial(index, "transmissionTexture uses TEXCOORD_" + std::to_string(int(number)) + "; TEXCOORD_0 is used");
+        if (info.Has("extensions")) ignoredInMaterial(index, "transmissionTexture's KHR_texture_transform is ignored");
+      }
+    }
+    double attenuationDistance = INFINITY;
+    Spectrum attenuationColor(1.0f);
+    if (auto* ext = extension(m.extensions, "KHR_materials_volume")) {
+      const std::string ve = el + ".KHR_materials_volume";
+      getNumber(*ext, "thicknessFactor", &thickness);
+      if (ext->Has("attenuationDistance") && !(getNumber(*ext, "attenuationDistance", &attenuationDistance) && attenuationDistance > 0))
+        fail(ve + ".attenuationDistance", "must be a distance > 0 (metres)");
+      if (ext->Has("attenuationColor")) {
+        attenuationColor = spectrumValue(ext->Get("attenuationColor"), ve + ".attenuationColor");
+        checkRange(ve + ".attenuationColor", attenuationColor, 0.0f, 1.0f);
+      }
+      if (ext->Has("thicknessTexture")) ignoredInMaterial(index, "KHR_materials_volume.thicknessTexture is ignored (the volume is the closed mesh itself)");
+    }
     if (auto* ext = extension(m.extensions, "KHR_materials_ior")) getNumber(*ext, "ior", &ior);
     if (!(ior >= 1.0 && ior < 10.0) && ior != 0.0) fail(el + ".KHR_materials_ior.ior", "must be in [1, 10)");
     if (ior == 0.0) ior = 1.5;  // the extension allows 0 as "unset"
@@ -750,18 +780,29 @@ class Loader {
       out.bsdf = std::make_unique<Phong>(kd, ks, n);
     } else if (transmission > 0 && thickness > 0) {
       out.bsdf = std::make_unique<Dielectric>(float(ior), dispersion > 0 ? float(20.0 / dispersion) : 0.0f);
-    } else if (lambertian) {
+      // Beer–Lambert inside (Scene::transmittance): attenuationColor after attenuationDistance.
+      out.attenuationColor = ColorTexture(attenuationColor);
+      out.attenuationDistance = float(attenuationDistance);
+    } else if (transmission == 1 && transmissionTexture < 0 && metallic == 0 && roughness == 0 && !mrTextured) {
+      // Thin-walled, smooth and wholly transmissive (a window pane): the delta limit of the
+      // transmission lobe below, so that photons and paths pass straight through it.
+      out.bsdf = std::make_unique<ThinDielectric>(base, float(ior));
+    } else if (lambertian && transmission == 0) {
       out.bsdf = std::make_unique<Lambertian>(base);
     } else if (metallic == 1.0f && roughness == 0.0f && !mrTextured) {
       out.bsdf = std::make_unique<Mirror>(base);  // the metal lobe's limit α → 0, a delta
     } else if (metallic == 1.0f && !mrTextured) {
       out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);  // = the metal lobe alone
     } else {
-      if (transmission > 0) ignoredInMaterial(index, "KHR_materials_transmission without KHR_materials_volume (thin-walled) is rendered opaque");
       ColorTexture mr(Spectrum(1.0f, roughness, metallic),
                       textureImage(pbr.metallicRoughnessTexture.index, el + ".metallicRoughnessTexture", false),
                       textureTransform(index, pbr.metallicRoughnessTexture, el + ".metallicRoughnessTexture"));
-      out.bsdf = std::make_unique<MetallicRoughness>(base, std::move(mr));
+      // Thin-walled transmission (no volume): factor × the linear texture's R.
+      ColorTexture through(Spectrum(float(transmission)),
+                           textureImage(transmissionTexture, el + ".KHR_materials_transmission.transmissionTexture", false));
+      if (transmission > 0 && ior != 1.5)
+        ignoredInMaterial(index, "KHR_materials_ior on a rough thin-walled surface is ignored (its Fresnel layer is glTF's ior 1.5)");
+      out.bsdf = std::make_unique<MetallicRoughness>(base, std::move(mr), std::move(through));
     }
     return out;
   }
@@ -804,7 +845,11 @@ class Loader {
       if (!isFinite(Vec3(world[c])) || !std::isfinite(world[c][3])) fail(el, "transform is not finite (overflow)");
     if (!withinScene(Vec3(world[3])))
       fail(el, "transform places it beyond 1e7 m from the origin (coordinates are in metres)");
-    if (node.mesh >= 0) placeMesh(node.mesh, world, el);
+    if (auto* ext = extension(node.extensions, "EXT_mesh_gpu_instancing"); ext && node.mesh >= 0) {
+      for (const Mat4& local : gpuInstances(*ext, el + ".extensions.EXT_mesh_gpu_instancing")) placeMesh(node.mesh, world * local, el);
+    } else if (node.mesh >= 0) {
+      placeMesh(node.mesh, world, el);
+    }
     if (node.camera >= 0) addCamera(node.camera, index, world, el);
     if (auto* ext = extension(node.extensions, "KHR_lights_punctual")) {
       double light;
@@ -945,11 +990,47 @@ class Loader {
     }
   }
 
-  // How many times the scene places each mesh: a mesh placed more than once is instanced.
+  // EXT_mesh_gpu_instancing: the node's mesh placed once per element of its attributes, each
+  // T·R·S (TRANSLATION, ROTATION as a quaternion x, y, z, w, SCALE; any of them may be absent),
+  // under the node's own transform.
+  std::vector<Mat4> gpuInstances(const tinygltf::Value& ext, const std::string& el) {
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject()) fail(el, "needs attributes");
+    const tinygltf::Value& attributes = ext.Get("attributes");
+    size_t count = 0;
+    bool first = true;
+    auto view = [&](const char* name, int components, Attribute a) {
+      double index;
+      if (!getNumber(attributes, name, &index)) return ElementView{};
+      ElementView v = attributeView(int(index), components, a, el + ".attributes." + name);
+      if (!first && v.count != count) fail(el + ".attributes." + name, "count differs from the other attributes'");
+      count = v.count, first = false;
+      return v;
+    };
+    const ElementView T = view("TRANSLATION", 3, Attribute::Position), R = view("ROTATION", 4, Attribute::Rotation),
+                      S = view("SCALE", 3, Attribute::Position);
+    if (first) fail(el, "no TRANSLATION, ROTATION or SCALE");
+    std::vector<Vec3> t(count, Vec3(0.0f)), s(count, Vec3(1.0f));
+    std::vector<glm::quat> r(count, glm::quat(1, 0, 0, 0));
+    if (T.count) readElements<3>(T, [&](size_t i, const float* v) { t[i] = Vec3(v[0], v[1], v[2]); });
+    if (S.count) readElements<3>(S, [&](size_t i, const float* v) { s[i] = Vec3(v[0], v[1], v[2]); });
+    if (R.count)
+      readElements<4>(R, [&](size_t i, const float* v) {
+        glm::quat q(v[3], v[0], v[1], v[2]);  // w, x, y, z
+        if (glm::length(q) == 0) fail(el + ".attributes.ROTATION", "element " + std::to_string(i) + " is a zero quaternion");
+        r[i] = glm::normalize(q);
+      });
+    std::vector<Mat4> out(count);
+    for (size_t i = 0; i < count; ++i) out[i] = glm::scale(glm::translate(Mat4(1.0f), t[i]) * glm::mat4_cast(r[i]), s[i]);
+    return out;
+  }
+
+  // How many times the scene places each mesh: a mesh placed more than once is instanced (and
+  // so is any mesh placed through EXT_mesh_gpu_instancing).
   void countMeshUses(int index, int depth) {
     if (index < 0 || index >= int(model_.nodes.size()) || depth > 256) return;  // reported by visit()
     const tinygltf::Node& node = model_.nodes[size_t(index)];
-    if (node.mesh >= 0 && node.mesh < int(model_.meshes.size())) ++meshUses_[size_t(node.mesh)];
+    if (node.mesh >= 0 && node.mesh < int(model_.meshes.size()))
+      meshUses_[size_t(node.mesh)] += node.extensions.count("EXT_mesh_gpu_instancing") ? 2 : 1;
     for (int child : node.children) countMeshUses(child, depth + 1);
   }
 

@@ -169,6 +169,13 @@ void checkDocument(const json& doc) {
     n.numbers("weights");
     n.string("name");
     n.extension("KHR_lights_punctual", [](const Members& l) { l.integer("light"); });
+    n.extension("EXT_mesh_gpu_instancing", [](const Members& e) {
+      e.object("attributes", [](const Members& a) {
+        a.integer("TRANSLATION");
+        a.integer("ROTATION");
+        a.integer("SCALE");
+      });
+    });
   });
   topLevel(doc, "meshes", [](const Members& m) {
     m.string("name");
@@ -283,7 +290,8 @@ const std::vector<std::string>& supportedGltfExtensions() {
   static const std::vector<std::string> names = {"KHR_lights_punctual",       "KHR_materials_emissive_strength",
                                                  "KHR_materials_transmission", "KHR_materials_volume",
                                                  "KHR_materials_ior",          "KHR_materials_dispersion",
-                                                 "KHR_texture_transform",      "KHR_mesh_quantization"};
+                                                 "KHR_texture_transform",      "KHR_mesh_quantization",
+                                                 "EXT_mesh_gpu_instancing"};
   return names;
 }
 

@@ -301,6 +301,7 @@ void Scene::commit() {
   epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
 
   for (Instance& inst : instances_) createAreaLights(inst);
+  for (const Material& m : materials_) absorbing_ |= m.absorbs();
 
   std::vector<float> weights;
   for (auto& light : lights_) {
@@ -526,6 +527,7 @@ SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t p
   hit.barycentric = inst.mirrors ? Vec2(b2, b1) : Vec2(b1, b2);
   hit.primitive = inst.firstPrimitive + triangle;
   hit.bsdf = materials_[part.material].bsdf.get();
+  hit.material = &materials_[part.material];
   const std::vector<int32_t>& lights = inst.lights[partIndex];
   hit.lightIndex = lights.empty() ? -1 : lights[primID];
   hit.light = hit.lightIndex >= 0 ? static_cast<const AreaLight*>(lights_[size_t(hit.lightIndex)].get()) : nullptr;

@@ -35,6 +35,12 @@ struct Material {
   // Coverage (MASK, BLEND); null where it is 1 everywhere (then only COLOR_0's alpha can cut).
   std::shared_ptr<const AlphaTexture> alpha = nullptr;
   std::shared_ptr<const NormalMap> normalMap = nullptr;  // glTF normalTexture, or null
+  // KHR_materials_volume: the closed surface holds an absorbing medium whose transmittance over
+  // attenuationDistance is attenuationColor (Beer–Lambert), the identity when the distance is
+  // infinite (the default).
+  ColorTexture attenuationColor{Spectrum(1.0f)};
+  float attenuationDistance = INFINITY;
+  bool absorbs() const { return std::isfinite(attenuationDistance) && attenuationColor.factor() != Spectrum(1.0f); }
 };
 
 struct SurfaceHit {
@@ -47,6 +53,7 @@ struct SurfaceHit {
   Vec2 barycentric{0.0f};  // (b1, b2): p = (1 − b1 − b2) v0 + b1 v1 + b2 v2 on the triangle
   uint32_t primitive = 0;
   const BSDF* bsdf = nullptr;
+  const Material* material = nullptr;
   const AreaLight* light = nullptr;  // non-null on emissive triangles
   int lightIndex = -1;
   // The shading normal is not the geometric one (interpolated NORMAL, a normal map): estimators
@@ -155,6 +162,19 @@ class Scene {
   bool occluded(const Ray& ray) const;
   // Ray leaving the surface at `hit` in direction d, offset off the surface to avoid self-hits.
   Ray spawnRay(const SurfaceHit& hit, const Vec3& d) const;
+  // Beer–Lambert along the segment a ray travelled (direction d, unit) to reach `hit`: when it
+  // ran inside an absorbing volume, which it did if it met the back face of that volume's
+  // surface, exp(−σ t) = attenuationColor^(t / attenuationDistance) at the path's wavelengths;
+  // 1 otherwise. Every estimator multiplies its path throughput by it after each intersection.
+  // Volumes are assumed not nested, and a segment that starts inside one and ends on another
+  // surface inside it (a light inside glass) is not attenuated.
+  Spectrum transmittance(const SurfaceHit& hit, const Vec3& d, const SampledWavelengths& lambda) const {
+    if (!absorbing_ || !hit.material->absorbs() || !(glm::dot(d, hit.ng) > 0)) return Spectrum(1.0f);
+    const Spectrum c = hit.material->attenuationColor.eval(Vec2(0.0f), lambda);
+    const float exponent = hit.t / hit.material->attenuationDistance;
+    return Spectrum(std::pow(c[0], exponent), std::pow(c[1], exponent), std::pow(c[2], exponent));
+  }
+  bool hasAbsorbingVolumes() const { return absorbing_; }
   // Shadow ray from hit towards a light sample at `distance` along wi: is it unblocked?
   bool visible(const SurfaceHit& hit, const Vec3& wi, float distance) const;
   // Triangles are numbered over the whole scene: the world's in the order they were added, then
@@ -265,6 +285,7 @@ class Scene {
   bool hasCamera_ = false, committed_ = false, meshOpen_ = false;
   uint32_t lastPrototype_ = 0;  // of the open mesh
   BvhLayout bvhLayout_ = BvhLayout::Auto;
+  bool absorbing_ = false;  // some material absorbs (Material::absorbs)
   bool compact_ = false;
   size_t triangleCount_ = 0;
   Bounds bounds_;

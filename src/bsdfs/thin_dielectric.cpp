@@ -1,0 +1,35 @@
+#include "bsdfs/thin_dielectric.h"
+
+namespace pl {
+
+ThinDielectric::ThinDielectric(ColorTexture transmittance, float eta) : transmittance_(std::move(transmittance)) {
+  const float r = (eta - 1) / (eta + 1);
+  F0_ = r * r;
+}
+
+float ThinDielectric::reflectance(float cosTheta) const {
+  float m = std::clamp(1.0f - std::abs(cosTheta), 0.0f, 1.0f);
+  return F0_ + (1 - F0_) * (m * m) * (m * m) * m;
+}
+
+bool ThinDielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float uc, BSDFSample* s) const {
+  if (wo.z == 0) return false;
+  const float F = reflectance(wo.z);
+  const Spectrum T = transmittance_.eval(c.uv, *c.lambda, c.color) * (1 - F);
+  const float through = (T.r + T.g + T.b) / 3;
+  const float P = F + through > 0 ? F / (F + through) : 1.0f;  // of reflecting
+  s->delta = true;
+  s->eta = 1.0f;
+  if (uc < P) {
+    s->wi = Vec3(-wo.x, -wo.y, wo.z);
+    s->weight = Spectrum(F / P);
+    s->pdf = P;
+  } else {
+    s->wi = -wo;
+    s->weight = T / (1 - P);
+    s->pdf = 1 - P;
+  }
+  return true;
+}
+
+}  // namespace pl
