@@ -326,6 +326,24 @@ TEST_CASE("loader: a file without lights is lit by the default environment, a un
   // A file with a light gets no sky.
   GltfFixture lit;
   CHECK(loadGltf(lit.write("lit.gltf"))->environment() == nullptr);
+  // Emissive materials without a punctual light: the scene's lights in a radiometric file
+  // (photonlab's own scenes), self-illumination under the default sky in a photometric one.
+  GltfFixture glowing;
+  glowing.doc["scenes"][0]["nodes"] = {0, 1};
+  glowing.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+  CHECK(loadGltf(glowing.write("glowing-radiometric.gltf"))->environment() == nullptr);
+  glowing.doc["asset"].erase("extras");
+  warnings.clear();
+  auto photometric = loadGltf(glowing.write("glowing-photometric.gltf"), &warnings);
+  REQUIRE(photometric->environment() != nullptr);
+  CHECK_THAT(photometric->environmentSource, Contains("default environment"));
+  CHECK(photometric->lights().size() == 3);  // the sky and the floor's two triangles
+  said = 0;
+  for (auto& w : warnings) said += w.find("self-illumination") != std::string::npos && w.find("--env 0 none") != std::string::npos;
+  CHECK(said == 1);
+  GltfLoadOptions none;
+  none.environment = parseEnvironment("0", "--env");
+  CHECK(average(loadGltf(glowing.write("glowing-dark.gltf"), nullptr, none)->environment()->power()) == 0.0f);
 }
 
 TEST_CASE("loader errors: bad light and material values") {

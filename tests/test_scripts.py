@@ -2,6 +2,7 @@
 and once end to end on what `photonlab run` writes, down to a headless-Chromium screenshot of
 index.html that must show the images and the plots."""
 import csv
+import json
 import os
 import shutil
 import subprocess
@@ -373,3 +374,36 @@ def test_load_benchmark_writes_loadable_grids_and_reads_the_bench_table(tmp_path
     assert float(rows["geometry in the file (MB)"]) == pytest.approx((25 * 32 + 96 * 4) / 1e6, abs=0.05)
     assert subprocess.run([sys.executable, os.path.join(SCRIPTS, "load_benchmark.py"), "--size", "8", "--repeats", "1",
                            "--dir", str(tmp_path / "files")], check=True, capture_output=True, text=True).stdout.count("\n") == 5
+
+
+def test_gallery_renders_models_from_a_folder_or_a_url_of_the_khronos_layout(tmp_path):
+    """gallery.py on a stand-in for Khronos' Models/: a .glb, and a .gltf whose buffer is an
+    external file, taken from the folder directly and through a file:// URL (downloaded into the
+    cache, the .gltf's buffer with it); a model that is missing is named, the rest rendered."""
+    import gallery
+    import load_benchmark as lb
+    models = tmp_path / "Models"
+    lb.write_glb(_make_dirs(models / "DamagedHelmet" / "glTF-Binary") + "/DamagedHelmet.glb", 4)
+    # ToyCar as a .gltf with its buffer beside it: the glb's JSON with the BIN chunk moved to a file.
+    glb = open(models / "DamagedHelmet" / "glTF-Binary" / "DamagedHelmet.glb", "rb").read()
+    json_length = int.from_bytes(glb[12:16], "little")
+    doc = json.loads(glb[20:20 + json_length])
+    bin_chunk = glb[20 + json_length + 8:]
+    doc["buffers"][0]["uri"] = "ToyCar data.bin"
+    gltf_dir = _make_dirs(models / "ToyCar" / "glTF")
+    open(gltf_dir + "/ToyCar data.bin", "wb").write(bin_chunk)
+    json.dump(doc, open(gltf_dir + "/ToyCar.gltf", "w"))
+    common = ["--models", "DamagedHelmet,ToyCar,WaterBottle", "--width", "16", "--spp", "2", "--time", "10",
+              "--photonlab", PHOTONLAB]
+    for source, out in ((str(models), tmp_path / "local"), ((tmp_path / "Models").as_uri(), tmp_path / "remote")):
+        assert gallery.main(["--source", source, "--cache", str(tmp_path / "cache"), "--out", str(out)] + common) == 0
+        table = open(out / "gallery.md").read()
+        assert "![DamagedHelmet](DamagedHelmet.png)" in table and "![ToyCar](ToyCar.png)" in table
+        assert "WaterBottle" not in table  # not in the source: skipped, said on stderr
+        assert os.path.getsize(out / "DamagedHelmet.png") > 0 and os.path.getsize(out / "ToyCar.png") > 0
+    assert os.path.isfile(tmp_path / "cache" / "ToyCar" / "glTF" / "ToyCar data.bin")
+
+
+def _make_dirs(path):
+    os.makedirs(path, exist_ok=True)
+    return str(path)

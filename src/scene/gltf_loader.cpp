@@ -194,7 +194,12 @@ class Loader {
   }
 
   // The sky: the caller's (--env, an experiment's env) over the file's
-  // (extras.photonlab.environment), and the default one where the scene has no light at all.
+  // (extras.photonlab.environment), and the default one where the scene has no light: no
+  // KHR_lights_punctual light and, in a radiometric file (photonlab's own scenes, or
+  // --units radiometric), no emissive material either. In a photometric file (the glTF
+  // default) emissive materials do not count as the scene's lighting: glTF's emission is
+  // self-illumination, and viewers light such files with an environment (DamagedHelmet's glowing
+  // visor rendered black before).
   void addEnvironment() {
     EnvironmentSpec spec = options_.environment;
     std::string field = "--env";
@@ -208,11 +213,17 @@ class Loader {
     if (!spec.enabled) {
       bool emissive = false;
       for (const Material& m : scene_->materials()) emissive |= !isBlack(m.emission);
-      if (!scene_->lights().empty() || emissive) return;
+      const bool radiometric = lightScale_ == 1.0f;
+      if (!scene_->lights().empty() || (emissive && radiometric)) return;
       spec = defaultEnvironment();
       field = "default environment";
-      warn("no light (neither KHR_lights_punctual lights nor emissive materials): lit by the default environment, " +
-           spec.describe() + " (--env sets another)");
+      if (emissive)
+        warn("no KHR_lights_punctual light, and in photometric units emissive materials are self-illumination, not the "
+             "scene's lighting: lit by the default environment too, " + spec.describe() +
+             " (--env sets another, --env 0 none; --units radiometric makes the emitters the lights)");
+      else
+        warn("no light (neither KHR_lights_punctual lights nor emissive materials): lit by the default environment, " +
+             spec.describe() + " (--env sets another)");
     }
     std::unique_ptr<EnvironmentLight> light;
     try {
