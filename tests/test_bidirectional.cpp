@@ -164,7 +164,7 @@ TEST_CASE("bdpt: each technique alone, unweighted, converges to the path tracer'
   }
 }
 
-TEST_CASE("bdpt, vcm and bpm agree with the path tracer region by region on the Cornell box") {
+TEST_CASE("bdpt, vcm and bpm agree with the path tracer region by region on the Cornell box", "[long]") {
   // 32×32 pixels cut into 4×4 regions of 8×8, seeds 1 and 2, z as the light tracer's test: every
   // |z| < 4, mean z² < 3, image means within 1.5%. The merge radius (2 mm, a fifth of a pixel's
   // footprint) keeps vcm's and bpm's bias below their noise at 256 iterations.
@@ -195,7 +195,7 @@ TEST_CASE("bidirectional methods are deterministic: the same image bit for bit w
     }
 }
 
-TEST_CASE("vcm and sppm agree region by region on the caustic scenes") {
+TEST_CASE("vcm and sppm agree region by region on the caustic scenes", "[long]") {
   // Both are consistent estimators with the same bias structure (a disc of initial radius r
   // around each camera vertex, shrinking with the iterations); with r a fifth of a pixel's
   // footprint (cornell-spheres) or about one (glass-caustic), the blur moves little light

@@ -339,7 +339,7 @@ TEST_CASE("environment: a diffuse sphere under a constant sky is L = ρ·L_env, 
   }
 }
 
-TEST_CASE("environment: a white furnace - reflectance 1 under a constant sky - is L_env everywhere") {
+TEST_CASE("environment: a white furnace - reflectance 1 under a constant sky - is L_env everywhere", "[long]") {
   // A floor, a wall behind it and a sphere on the floor, all Lambertian with ρ = 1, under
   // L_env = 0.5: radiance is L_env at every point and in every direction (nothing absorbs, and
   // the sky is uniform), however the light bounces between wall, floor and sphere. Paths end

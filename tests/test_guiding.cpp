@@ -263,7 +263,7 @@ TEST_CASE("guided: the closed furnace converges to L = Le/(1 − ρ) = 2 with bo
     }
 }
 
-TEST_CASE("guided agrees with the path tracer region by region on the Cornell box - both guides, both combinations") {
+TEST_CASE("guided agrees with the path tracer region by region on the Cornell box - both guides, both combinations", "[long]") {
   // 32×32 pixels cut into 4×4 regions of 8×8, seeds 1 and 2, z as the light tracer's test: every
   // |z| < 4 over the 48 region-channel pairs (a false alarm ~10⁻³), mean z² < 3, image means
   // within 1.5%. Inverse-variance weights are estimated from the iterations' own samples, a
@@ -294,7 +294,7 @@ TEST_CASE("guided agrees with the path tracer region by region on the Cornell bo
     }
 }
 
-TEST_CASE("guided: on Veach's door the SD-tree guide lowers the variance of a sample several-fold - the same mean") {
+TEST_CASE("guided: on Veach's door the SD-tree guide lowers the variance of a sample several-fold - the same mean", "[long]") {
   // scenes/door.gltf: the camera's room is lit only through the gap of a door ajar, where cosine
   // directions rarely go. 64×64 pixels, 256 spp, seeds 1 and 2 for each method; a method's
   // per-pixel variance is estimated from the seeds' differences, d²/2, and made per sample by

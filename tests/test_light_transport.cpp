@@ -200,7 +200,7 @@ double discAverage(const std::function<double(const Vec3&)>& E, const Vec3& x, f
 
 }  // namespace
 
-TEST_CASE("photons alone: every light's direct photons reproduce its closed-form irradiance point by point") {
+TEST_CASE("photons alone: every light's direct photons reproduce its closed-form irradiance point by point", "[long]") {
   // 1M emitted paths; the global map's direct photons (L D) gathered with a fixed radius r and
   // the uniform kernel at a 17×17 grid of floor points (every 15 cm over [−1.2, 1.2]², so the
   // spot's falloff ring is crossed), wherever E is above a tenth of its maximum. The
@@ -269,7 +269,7 @@ void checkPerPixel(const LightCase& c, int W, double medianMargin, RenderFn&& re
   checkAgreesPerPixel([&](uint64_t seed) { return render(*scene, seed); }, expected, medianMargin);
 }
 
-TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - median and 99th percentile") {
+TEST_CASE("photons alone: PPM images of every light match ρ/π·E per pixel - median and 99th percentile", "[long]") {
   // PPM takes all light, direct included, from photons: 32×32 pixels, 24 passes of 100k paths,
   // initial radius 3 cm, seeds 1 and 2. Accepted: median ratio within 1 ± 0.02 (the per-pixel
   // noise is 8–15%, so its standard error over ~10³ pixels is < 0.6%), the mean ratio within
@@ -303,7 +303,7 @@ TEST_CASE("shadow rays alone: direct lighting of every light matches ρ/π·E pe
   }
 }
 
-TEST_CASE("light tracing alone: every light's splats match ρ/π·E per pixel") {
+TEST_CASE("light tracing alone: every light's splats match ρ/π·E per pixel", "[long]") {
   // The light tracer: paths from sampleLe, the floor vertex connected to the camera (We, the
   // BSDF in importance mode), 32×32 pixels, 512 light paths per pixel, seeds 1 and 2. A pixel
   // receives the splats of the paths that land in its footprint, a Poisson count: from ~20 (a
@@ -323,7 +323,7 @@ TEST_CASE("light tracing alone: every light's splats match ρ/π·E per pixel") 
   }
 }
 
-TEST_CASE("bidirectional: bdpt, vcm and bpm images of every light match ρ/π·E per pixel") {
+TEST_CASE("bidirectional: bdpt, vcm and bpm images of every light match ρ/π·E per pixel", "[long]") {
   // Every light through the bidirectional estimators: bdpt and vcm weigh next-event estimation
   // (sampleLi), light tracing (sampleLe, Camera::sampleWi) and, in vcm, merging against each
   // other with densities from pdfLi/pdfLe; bpm takes everything from merging. A wrong density
@@ -347,7 +347,7 @@ TEST_CASE("bidirectional: bdpt, vcm and bpm images of every light match ρ/π·E
     }
 }
 
-TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel - SD-tree and photon guides") {
+TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel - SD-tree and photon guides", "[long]") {
   // Path guiding weighs next-event estimation against directions drawn from the mixture of the
   // BSDF and the guide: both MIS weights with BSDF sampling's density, each hit divided by the
   // mixture's. At the area light, guided directions find the emitter as often as the guide
@@ -369,7 +369,7 @@ TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel
     }
 }
 
-TEST_CASE("radiosity: every light over a floor gives ρ/π·E per pixel") {
+TEST_CASE("radiosity: every light over a floor gives ρ/π·E per pixel", "[long]") {
   // Radiosity's own paths for each light: delta lights shoot first (their irradiance at 16
   // shadow-rayed points per patch, Light::sampleLi), the area light is emitting patches
   // (form factors). The floor is cut to what the camera sees (2.4 m) and meshed into 5 cm
@@ -561,7 +561,7 @@ double overSquare(double height, double half, const std::function<double(double)
   return sum * (kPi / 4 / nPhi) * 8;
 }
 
-TEST_CASE("thin-walled transmission: a rough translucent wall passes the sun to the floor - seen from below it is f_t E - every path") {
+TEST_CASE("thin-walled transmission: a rough translucent wall passes the sun to the floor - seen from below it is f_t E - every path", "[long]") {
   // A white thin wall (metallic 0, roughness 0.5: α = 0.25, transmission 1) at height h = 0.25
   // under a directional light straight down (E = 3 W/m²), a floor (ρ = 0.5) below, both 4 m
   // wide. A wall point sends the sun's light down towards wo (μ = cosθ from straight down) with

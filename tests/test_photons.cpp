@@ -350,7 +350,7 @@ TEST_CASE("photon mapping in the closed furnace: L = Le / (1 − ρ) with and wi
   }
 }
 
-TEST_CASE("Cornell box: photon mapping with final gathering agrees with the path tracer region by region") {
+TEST_CASE("Cornell box: photon mapping with final gathering agrees with the path tracer region by region", "[long]") {
   auto scene = loadGltf(scenePath("cornell-box.gltf"));
   RenderOptions ro;
   ro.width = ro.height = 32;

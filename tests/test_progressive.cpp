@@ -138,7 +138,7 @@ TEST_CASE("mirror caustic: PPM - SPPM and PPPM converge to E = I/h² + R·I/(2H 
   CHECK(meanOf(pt) / meanOf(withoutCaustic) == Approx(1.0).epsilon(0.02));
 }
 
-TEST_CASE("convergence rate: MSE falls as passes^(−2/3) for α = 2/3 - the path tracer as spp^(−1)") {
+TEST_CASE("convergence rate: MSE falls as passes^(−2/3) for α = 2/3 - the path tracer as spp^(−1)", "[long]") {
   // Reference: the mirror-caustic closed form, exact per pixel. MSE averaged over 3 seeds at
   // the checkpoints 1, 2, 4, ..., 64; slope fitted on the tail (4..64), not the start-up.
   // Theory (Knaus & Zwicker 2011): variance ∝ 1/(N r²) and bias² ∝ r⁴ with r² ∝ N^(α−1) give
@@ -244,7 +244,7 @@ TEST_CASE("default radius: a few pixel footprints at the median distance the cam
   CHECK(e.radius > 0);
 }
 
-TEST_CASE("default radius: the furnace seen from its centre is L = 2 in every pixel - median and 99th percentile - ppm sppm pppm") {
+TEST_CASE("default radius: the furnace seen from its centre is L = 2 in every pixel - median and 99th percentile - ppm sppm pppm", "[long]") {
   // 24×24 pixels, 32 passes of 50k photon paths, the default radius. Before, the radius was
   // 10⁻⁴ m here: SPPM's median pixel was 1.5 and 1% of pixels were above 10 (salt noise), with
   // the image mean still ≈ 2. Measured now: median within 0.4% of 2, 99th percentile of

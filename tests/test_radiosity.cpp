@@ -260,7 +260,7 @@ TEST_CASE("radiosity: a hit's patch is the one that contains it, on the face it 
   }
 }
 
-TEST_CASE("radiosity: the diffuse Cornell box agrees with the path tracer region by region, better with smaller patches") {
+TEST_CASE("radiosity: the diffuse Cornell box agrees with the path tracer region by region, better with smaller patches", "[long]") {
   // scenes/cornell-box.gltf is diffuse (two white blocks, no spheres). The path tracer at
   // 32×32 pixels, 1024 samples, seeds 1 and 2, is the converged answer: over 4×4 regions of 8×8
   // pixels its noise is ~0.3% (from the seeds' difference). Radiosity with the final gather
