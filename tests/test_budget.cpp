@@ -111,7 +111,7 @@ TEST_CASE("budget: photon tracing and the kd-tree build stop within milliseconds
   }
 }
 
-TEST_CASE("budget: the photon integrator stops inside its photon maps or its final gathers - within 0.25 s") {
+TEST_CASE("budget: the photon integrator stops inside its photon maps or its final gathers - within 0.25 s", "[serial]") {
   auto scene = loadGltf(scenePath("cornell-box.gltf"));
   // 1. Final gathering: 512 gather rays per pixel at 64×64 take ~10 s per sample pass.
   {
@@ -153,7 +153,7 @@ TEST_CASE("budget: the photon integrator stops inside its photon maps or its fin
   }
 }
 
-TEST_CASE("budget: path guiding's time budget covers training and photon tracing - it stops within 0.25 s of it") {
+TEST_CASE("budget: path guiding's time budget covers training and photon tracing - it stops within 0.25 s of it", "[serial]") {
   // A time budget alone: iterations double until the next would not fit, and the last runs until
   // the budget ends; the photon guide's map (here 20M paths for its first iteration, ~10 s to
   // trace) is cut short by the same budget. Either way the render returns within the allowed
