@@ -3,8 +3,8 @@
 # the Python scripts). This is the README's second command.
 #   --sanitizers   then builds again with AddressSanitizer + UndefinedBehaviorSanitizer into
 #                  build-sanitize/ and runs the Catch2 tests there too (what .ci/run does),
-#                  all but those tagged [long] (ctest label "long": convergence checks of
-#                  15-70 s each under the sanitizers, on code paths shorter tests also take).
+#                  all but those tagged [long] (ctest label "long": the longest convergence
+#                  checks under the sanitizers, on code paths shorter tests also take).
 #                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
