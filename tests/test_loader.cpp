@@ -1026,6 +1026,65 @@ GltfFixture threeQuadsGpuInstanced(bool emissive) {
 }
 }  // namespace
 
+namespace {
+// Rays from a 64×64 grid above and below [-1, 1]², aimed inwards (those of the grid's diagonals
+// through the diagonals of the meshes' quads, where a BVH that is not watertight lets some
+// through): each must find the same
+// surface in scenes a and b (the hit point, the geometric and shading normals, the uv, the
+// material, emission), and in each scene the numbered triangle's corners with the hit's
+// barycentrics give back the hit point, surfaceAt() the same surface, and the corners' order the
+// front face. Returns the number of rays that hit.
+struct SurfaceAgreement {
+  int hitsA = 0, hitsB = 0, both = 0;
+};
+SurfaceAgreement sameSurfaces(const Scene& a, const Scene& b) {
+  SurfaceAgreement r;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j)
+      for (float side : {1.0f, -1.0f}) {  // from above and from below
+        Vec3 o(-1 + (i + 0.5f) / 32, side > 0 ? 2.0f : -1.0f, -1 + (j + 0.5f) / 32);
+        Vec3 target(0.8f * o.x, 0.5f, 0.8f * o.z);
+        Ray ray{o, glm::normalize(target - o), 0.0f, INFINITY};
+        SurfaceHit ha, hb;
+        bool fa = a.intersect(ray, &ha), fb = b.intersect(ray, &hb);
+        INFO("ray from " << o.x << ", " << o.y << ", " << o.z << " hits " << ha.p.x << ", " << ha.p.y << ", " << ha.p.z << " / " << hb.p.x << ", " << hb.p.y << ", " << hb.p.z);
+        // A ray through an edge that two triangles share meets either (they differ in their
+        // normals where the mesh bends there); elsewhere both scenes meet the same triangle.
+        auto onEdge = [](const SurfaceHit& h) { return std::min({1 - h.barycentric.x - h.barycentric.y, h.barycentric.x, h.barycentric.y}) < 1e-4f; };
+        r.hitsA += fa, r.hitsB += fb;
+        if (fa != fb) CHECK(onEdge(fa ? ha : hb));  // the other scene's BVH let it through an edge
+        if (!fa || !fb) continue;
+        ++r.both;
+        CHECK(ha.t == Approx(hb.t).epsilon(1e-5));
+        CHECK(glm::length(ha.p - hb.p) < 1e-5f);
+        if (!onEdge(ha) || !onEdge(hb)) {
+          CHECK(glm::dot(ha.ng, hb.ng) > 0.99999f);
+          CHECK(glm::dot(ha.shading.n, hb.shading.n) > 0.99999f);
+        }
+        CHECK(glm::length(ha.uv - hb.uv) < 1e-5f);
+        CHECK(a.triangleMaterial(ha.primitive) == b.triangleMaterial(hb.primitive));
+        CHECK((ha.light != nullptr) == (hb.light != nullptr));
+        if (ha.light) {
+          const SampledWavelengths& rgb = SampledWavelengths::rgb();
+          Spectrum La = ha.light->L(ha.uv, -ray.d, rgb), Lb = hb.light->L(hb.uv, -ray.d, rgb);
+          CHECK(glm::length(La - Lb) < 1e-6f);  // both emit towards the ray, or neither
+        }
+        for (const auto& [scene, h] : {std::pair{&a, ha}, std::pair{&b, hb}}) {
+          auto v = scene->trianglePositions(h.primitive);
+          Vec3 p = (1 - h.barycentric.x - h.barycentric.y) * v[0] + h.barycentric.x * v[1] + h.barycentric.y * v[2];
+          CHECK(glm::length(p - h.p) < 1e-5f);
+          SurfaceHit s = scene->surfaceAt(h.primitive, h.barycentric.x, h.barycentric.y);
+          CHECK(glm::length(s.p - h.p) < 1e-5f);
+          CHECK(glm::dot(s.shading.n, h.shading.n) > 0.99999f);
+          Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);  // the corners' order is the front face's
+          CHECK(glm::dot(n, h.ng) > 0);
+        }
+      }
+  return r;
+}
+
+}  // namespace
+
 TEST_CASE("loader: a mesh placed by several nodes - or by EXT_mesh_gpu_instancing - is stored once (Embree instances) and renders as its copies would") {
   // The same three placements of one quad, instanced and as three copies (which the loader
   // stores in world space, transformed as before). Every ray of a grid must find the same
@@ -1055,42 +1114,9 @@ TEST_CASE("loader: a mesh placed by several nodes - or by EXT_mesh_gpu_instancin
     CHECK(a->lights().size() == (emissive ? 7u : 1u));
     for (int c = 0; c < 3; ++c) CHECK(a->totalPower()[c] == Approx(b->totalPower()[c]).epsilon(1e-5));
 
-    int hits = 0;
-    for (int i = 0; i < 64; ++i)
-      for (int j = 0; j < 64; ++j)
-        for (float side : {1.0f, -1.0f}) {  // from above and from below
-          Vec3 o(-1 + (i + 0.5f) / 32, side > 0 ? 2.0f : -1.0f, -1 + (j + 0.5f) / 32);
-          Vec3 target(0.8f * o.x, 0.5f, 0.8f * o.z);
-          Ray ray{o, glm::normalize(target - o), 0.0f, INFINITY};
-          SurfaceHit ha, hb;
-          bool fa = a->intersect(ray, &ha), fb = b->intersect(ray, &hb);
-          REQUIRE(fa == fb);
-          if (!fa) continue;
-          ++hits;
-          CHECK(ha.t == Approx(hb.t).epsilon(1e-5));
-          CHECK(glm::length(ha.p - hb.p) < 1e-5f);
-          CHECK(glm::dot(ha.ng, hb.ng) > 0.99999f);
-          CHECK(glm::dot(ha.shading.n, hb.shading.n) > 0.99999f);
-          CHECK(glm::length(ha.uv - hb.uv) < 1e-5f);
-          CHECK(a->triangleMaterial(ha.primitive) == b->triangleMaterial(hb.primitive));
-          CHECK((ha.light != nullptr) == (hb.light != nullptr));
-          if (ha.light) {
-            const SampledWavelengths& rgb = SampledWavelengths::rgb();
-            Spectrum La = ha.light->L(ha.uv, -ray.d, rgb), Lb = hb.light->L(hb.uv, -ray.d, rgb);
-            CHECK(glm::length(La - Lb) < 1e-6f);  // both emit towards the ray, or neither
-          }
-          for (const auto& [scene, h] : {std::pair{a.get(), ha}, std::pair{b.get(), hb}}) {
-            auto v = scene->trianglePositions(h.primitive);
-            Vec3 p = (1 - h.barycentric.x - h.barycentric.y) * v[0] + h.barycentric.x * v[1] + h.barycentric.y * v[2];
-            CHECK(glm::length(p - h.p) < 1e-5f);
-            SurfaceHit s = scene->surfaceAt(h.primitive, h.barycentric.x, h.barycentric.y);
-            CHECK(glm::length(s.p - h.p) < 1e-5f);
-            CHECK(glm::dot(s.shading.n, h.shading.n) > 0.99999f);
-            Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);  // the corners' order is the front face's
-            CHECK(glm::dot(n, h.ng) > 0);
-          }
-        }
-    CHECK(hits > 4000);
+    SurfaceAgreement r = sameSurfaces(*a, *b);
+    CHECK(r.hitsA == r.hitsB);  // the same BVH layout in both: the same edges let rays through
+    CHECK(r.both > 4000);
   }
 }
 
@@ -1100,6 +1126,166 @@ TEST_CASE("loader: instanced and copied meshes give the same image - path tracer
   // files' images agree within their noise.
   auto a = loadGltf(threeQuads(true, true).write("instanced-lit.gltf"));
   auto b = loadGltf(threeQuads(false, true).write("copies-lit.gltf"));
+  RenderOptions o;
+  o.width = o.height = 32;
+  for (const char* name : {"path", "ppm"}) {
+    INFO(name);
+    auto image = [&](const Scene& s, uint64_t seed) {
+      RenderOptions r = o;
+      r.seed = seed;
+      if (std::string(name) == "path") {
+        r.spp = 64;
+        return render(s, *makeIntegrator(name, r), r, nullptr);
+      }
+      return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
+    };
+    RegionAgreement r = regions(image(*a, 1), image(*a, 2), image(*b, 3), image(*b, 4), 4, 1e-6);
+    CHECK(r.meanZ2 < 2.0);
+    CHECK(r.worst < 5.0);
+  }
+}
+
+namespace {
+// Every triangle of a scene as its world-space corners, each rotated to start at its smallest
+// corner (a rotation keeps the facing), sorted: equal lists are the same triangles, facing the
+// same ways, whatever their order and first corners.
+std::vector<std::array<float, 9>> triangleSet(const Scene& scene) {
+  std::vector<std::array<float, 9>> set;
+  for (uint32_t t = 0; t < scene.triangleCount(); ++t) {
+    auto v = scene.trianglePositions(t);
+    auto less = [](const Vec3& p, const Vec3& q) { return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z); };
+    int first = int(std::min_element(v.begin(), v.end(), less) - v.begin());
+    std::array<float, 9> c;
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) c[3 * k + i] = v[(first + k) % 3][i];
+    set.push_back(c);
+  }
+  std::sort(set.begin(), set.end());
+  return set;
+}
+}  // namespace
+
+TEST_CASE("scene: the compact layout pairs triangles across shared edges into Embree quads - every ray meets the surface it meets with the fast layout") {
+  auto load = [](const std::string& path, Scene::BvhLayout bvh) {
+    GltfLoadOptions options;
+    options.bvh = bvh;
+    return loadGltf(path, nullptr, options);
+  };
+  SECTION("files: the floor and a quad placed three times - instanced, mirrored, emissive") {
+    for (bool instanced : {true, false})
+      for (bool emissive : {false, true}) {
+        INFO((instanced ? "instanced" : "copies") << (emissive ? ", emissive" : ""));
+        const std::string file = threeQuads(instanced, emissive).write("layouts.gltf");
+        auto a = load(file, Scene::BvhLayout::Fast), b = load(file, Scene::BvhLayout::Compact);
+        CHECK(!a->compactBvh());
+        CHECK(b->compactBvh());
+        // Every quad of the file is the triangles (0, 1, 2) and (0, 2, 3), which run their
+        // diagonal 0-2 in opposite directions: each stored triangle pairs.
+        CHECK(a->pairedTriangleCount() == 0);
+        CHECK(b->pairedTriangleCount() == b->storedTriangleCount());
+        CHECK(b->lights().size() == a->lights().size());
+        for (int c = 0; c < 3; ++c) CHECK(b->totalPower()[c] == Approx(a->totalPower()[c]).epsilon(1e-5));
+        CHECK(triangleSet(*b) == triangleSet(*a));
+        SurfaceAgreement r = sameSurfaces(*a, *b);
+        CHECK(r.both > 4000);
+        CHECK(r.hitsB >= r.hitsA);  // the compact layout is watertight (Embree's robust mode)
+      }
+  }
+  SECTION("a mesh in code: a shuffled grid, and triangles that must stay single") {
+    // A wavy 9×9-vertex grid over [-1, 1]² with normals and uvs, written as two families of
+    // triangles (as scripts/load_benchmark.py writes its grid) in a scrambled order; and above
+    // it an emissive mesh of what must stay single (a triangle alone, one with a repeated
+    // corner, two that run their shared edge the same way, so face opposite ways) beside one
+    // proper pair.
+    auto build = [](Scene::BvhLayout layout) {
+      auto scene = std::make_unique<Scene>();
+      scene->setBvhLayout(layout);
+      const uint32_t grey = lambertian(*scene, 0.5f);
+      const uint32_t glow = scene->addMaterial(
+          {"glow", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.5f))), Spectrum(1, 2, 3), false});
+      const int n = 9;
+      std::vector<Vec3> P, N;
+      std::vector<Vec2> UV;
+      for (int z = 0; z < n; ++z)
+        for (int x = 0; x < n; ++x) {
+          const float fx = -1 + 2.0f * x / (n - 1), fz = -1 + 2.0f * z / (n - 1);
+          P.push_back(Vec3(fx, 0.05f * std::sin(3 * fx) * std::cos(3 * fz), fz));
+          N.push_back(glm::normalize(Vec3(0.2f * fx, 1, 0.1f * fz)));
+          UV.push_back(Vec2((fx + 1) / 2, (fz + 1) / 2));
+        }
+      std::vector<std::array<uint32_t, 3>> tris;
+      for (int family : {0, 1})
+        for (int z = 0; z + 1 < n; ++z)
+          for (int x = 0; x + 1 < n; ++x) {
+            const uint32_t a = z * n + x, b = a + 1, c = a + n, d = c + 1;
+            tris.push_back(family == 0 ? std::array<uint32_t, 3>{a, c, b} : std::array<uint32_t, 3>{b, c, d});
+          }
+      std::vector<uint32_t> I;
+      for (size_t i = 0; i < tris.size(); ++i)  // 37 is prime to the 128 triangles: a permutation
+        for (uint32_t v : tris[(i * 37) % tris.size()]) I.push_back(v);
+      scene->addMesh(P, N, UV, I, grey);
+      std::vector<Vec3> Q = {
+          {-0.8f, 0.6f, -0.8f}, {-0.8f, 0.6f, -0.5f}, {-0.5f, 0.6f, -0.8f},   // alone
+          {0.5f, 0.6f, 0.5f},   {0.5f, 0.6f, 0.8f},   {0.8f, 0.6f, 0.5f},     // a repeated corner
+          {-0.2f, 0.6f, 0.5f},  {-0.2f, 0.6f, 0.8f},  {0.1f, 0.6f, 0.5f}, {-0.5f, 0.6f, 0.5f},  // same-way edge
+          {0.2f, 0.6f, -0.4f},  {0.5f, 0.6f, -0.4f},  {0.5f, 0.6f, -0.1f}, {0.2f, 0.6f, -0.1f}};  // a pair
+      scene->addMesh(Q, {}, {}, {0, 1, 2, 3, 3, 4, 6, 7, 8, 6, 7, 9, 10, 13, 12, 10, 12, 11}, glow);
+      scene->addLight(std::make_unique<PointLight>(Vec3(0, 3, 0), Spectrum(10.0f)));
+      scene->commit();
+      return scene;
+    };
+    auto a = build(Scene::BvhLayout::Fast), b = build(Scene::BvhLayout::Compact);
+    CHECK(b->compactBvh());
+    // Each grid triangle's longest edge is its cell's diagonal (cells 0.25 wide, height steps
+    // under 0.04), across which its cell partner lies: all 128 pair; above, the one pair.
+    CHECK(b->pairedTriangleCount() == 128 + 2);
+    CHECK(b->triangleCount() == a->triangleCount());
+    CHECK(b->lights().size() == a->lights().size());  // the non-degenerate emissive triangles
+    for (int c = 0; c < 3; ++c) CHECK(b->totalPower()[c] == Approx(a->totalPower()[c]).epsilon(1e-5));
+    CHECK(triangleSet(*b) == triangleSet(*a));
+    // Every ray crosses the grid inside its square: the compact layout, watertight (Embree's
+    // robust mode, its Plücker test), meets it with each, even through the quads' diagonals.
+    SurfaceAgreement r = sameSurfaces(*a, *b);
+    CHECK(r.hitsB == 2 * 64 * 64);
+    CHECK(r.both > 8000);
+  }
+  SECTION("alphaMode MASK and BLEND on quads: both halves") {
+    // The alpha test's floor, one quad: x = -0.5 and x = 0.5 at z = 0 lie on its two halves.
+    for (const char* mode : {"MASK", "BLEND"}) {
+      INFO(mode);
+      GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 6, 8, {200, 200, 200, 255, 200, 200, 200, 64})));
+      f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+      f.doc["materials"][0]["alphaMode"] = mode;
+      auto scene = load(f.write("alpha-quads.gltf"), Scene::BvhLayout::Compact);
+      CHECK(scene->pairedTriangleCount() == scene->storedTriangleCount());
+      const int N = 20000;
+      auto fraction = [&](float x) {
+        int hits = 0;
+        for (int i = 0; i < N; ++i) {
+          SurfaceHit h;
+          hits += scene->intersect(Ray{Vec3(x, 1.0f + i * 1e-4f, 0.0f), Vec3(0, -1, 0), 0.0f, INFINITY}, &h);
+        }
+        return double(hits) / N;
+      };
+      CHECK(fraction(-0.5f) == 1.0);  // alpha 1
+      // alpha 0.251: MASK (cutoff 0.5) cuts it out; BLEND keeps a Bernoulli(0.251) fraction,
+      // σ = √(α(1 − α)/N) = 0.0031, 4σ.
+      if (std::string(mode) == "MASK") CHECK(fraction(0.5f) == 0.0);
+      else CHECK(fraction(0.5f) == Approx(0.25098).margin(4 * 0.0031));
+    }
+  }
+}
+
+TEST_CASE("scene: the compact layout renders what the fast one does - path tracer and photons, emissive quads") {
+  // Region by region (4×4 pixels) the two layouts' images agree within their noise, through
+  // shadow rays (path) and photons alone (PPM, whose photons start on the paired lights).
+  const std::string file = threeQuads(true, true).write("layouts-lit.gltf");
+  auto load = [&](Scene::BvhLayout bvh) {
+    GltfLoadOptions options;
+    options.bvh = bvh;
+    return loadGltf(file, nullptr, options);
+  };
+  auto a = load(Scene::BvhLayout::Fast), b = load(Scene::BvhLayout::Compact);
   RenderOptions o;
   o.width = o.height = 32;
   for (const char* name : {"path", "ppm"}) {

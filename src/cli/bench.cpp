@@ -324,7 +324,7 @@ int runLoadBench(const std::string& path, int repeats, Scene::BvhLayout bvh) {
   const uint64_t geometry = geometryBytes(path);
   double best = 1e30;
   uint64_t worstPeak = 0;
-  size_t triangles = 0, stored = 0;
+  size_t triangles = 0, stored = 0, paired = 0;
   bool compact = false;
   for (int r = 0; r < repeats; ++r) {
     // Reset the peak (VmHWM) to the present: each load's own peak, over what the process held
@@ -345,12 +345,14 @@ int runLoadBench(const std::string& path, int repeats, Scene::BvhLayout bvh) {
     triangles = scene->triangleCount();
     stored = scene->storedTriangleCount();
     compact = scene->compactBvh();
+    paired = scene->pairedTriangleCount();
   }
   std::printf("photonlab bench --load: %s, best of %d\n\n", path.c_str(), repeats);
   std::printf("| measure | value |\n|---|---|\n");
   std::printf("| triangles (stored) | %zu (%zu) |\n", triangles, stored);
   std::printf("| geometry in the file (MB) | %.1f |\n", geometry / 1e6);
-  std::printf("| BVH | %s |\n", compact ? "compact" : "fast");
+  if (compact) std::printf("| BVH | compact, %zu stored triangles paired into quads |\n", paired);
+  else std::printf("| BVH | fast |\n");
   std::printf("| load, until the scene can be traced (s) | %.2f |\n", best);
   std::printf("| load rate (M triangles/s) | %.2f |\n", triangles / best / 1e6);
   std::printf("| peak memory of the load (MB) | %.1f |\n", worstPeak / 1e6);

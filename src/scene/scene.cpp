@@ -115,6 +115,7 @@ MeshSlot Scene::appendMesh(uint32_t prototype, size_t vertices, size_t triangles
   slot.triangles = triangles;
   growTo(p.positions, p.positions.size() + vertices);
   growTo(p.indices, p.indices.size() + 3 * triangles);
+  p.triangles += uint32_t(triangles);
   slot.positions = p.positions.data() + part.firstVertex;
   slot.indices = p.indices.data() + 3 * size_t(part.firstTriangle);
   if (attributes.normals) {
@@ -214,6 +215,13 @@ size_t Scene::storedTriangleCount() const {
   return n;
 }
 
+size_t Scene::pairedTriangleCount() const {
+  size_t n = 0;
+  for (const Prototype& p : prototypes_)
+    for (const Part& part : p.parts) n += 2 * size_t(part.pairs);
+  return n;
+}
+
 // One AreaLight per emissive triangle of the instance's prototype, in world space (a mirroring
 // instance's corners in swapped order, so that the light faces where its triangle does).
 void Scene::createAreaLights(Instance& inst) {
@@ -226,7 +234,7 @@ void Scene::createAreaLights(Instance& inst) {
     std::vector<int32_t>& lights = inst.lights[pi];
     lights.assign(part.triangleCount, -1);
     for (uint32_t t = 0; t < part.triangleCount; ++t) {
-      const uint32_t* idx = &proto.indices[3 * (size_t(part.firstTriangle) + t)];
+      const std::array<uint32_t, 3> idx = corners(proto, part, t);
       uint32_t v[3] = {part.firstVertex + idx[0], part.firstVertex + idx[1], part.firstVertex + idx[2]};
       if (inst.mirrors) std::swap(v[1], v[2]);
       Vec3 p[3];
@@ -257,11 +265,16 @@ RTCScene Scene::buildEmbreeScene(uint32_t prototype, RTCScene into) {
   for (uint32_t pi = 0; pi < proto.parts.size(); ++pi) {
     const Part& part = proto.parts[pi];
     if (part.triangleCount == 0) continue;  // its ID stays unused
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry geom = rtcNewGeometry(device_, proto.paired ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, proto.positions.data(),
                                size_t(part.firstVertex) * sizeof(Vec3), sizeof(Vec3), part.vertexCount);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, proto.indices.data(),
-                               size_t(part.firstTriangle) * 3 * sizeof(uint32_t), 3 * sizeof(uint32_t), part.triangleCount);
+    if (proto.paired)
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, proto.quads.data(),
+                                 size_t(part.firstQuad) * 4 * sizeof(uint32_t), 4 * sizeof(uint32_t),
+                                 part.triangleCount - part.pairs);
+    else
+      rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, proto.indices.data(),
+                                 size_t(part.firstTriangle) * 3 * sizeof(uint32_t), 3 * sizeof(uint32_t), part.triangleCount);
     const Material& material = materials_[part.material];
     if (material.alphaMode != AlphaMode::Opaque && (material.alpha || part.firstColor >= 0)) {
       filterData_.push_back({this, prototype, pi});
@@ -300,6 +313,10 @@ void Scene::commit() {
   // Offsets scale with the scene so metre- and millimetre-sized scenes both avoid self-hits.
   epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
 
+  compact_ = bvhLayout_ == BvhLayout::Compact || (bvhLayout_ == BvhLayout::Auto && storedTriangleCount() >= kCompactTriangles);
+  if (compact_)
+    for (Prototype& proto : prototypes_) pairIntoQuads(proto);
+
   for (Instance& inst : instances_) createAreaLights(inst);
   for (const Material& m : materials_) absorbing_ |= m.absorbs();
 
@@ -310,12 +327,13 @@ void Scene::commit() {
   }
   lightDistribution_ = AliasTable(weights);
 
-  compact_ = bvhLayout_ == BvhLayout::Compact || (bvhLayout_ == BvhLayout::Auto && storedTriangleCount() >= kCompactTriangles);
   auto newScene = [&] {
     RTCScene scene = rtcNewScene(device_);
-    // The compact layout (index-referencing leaves) about halves the BVH's memory; with it the
-    // medium-quality build, whose peak memory is the compact tree's own (measured: README, Scenes).
-    if (compact_) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_COMPACT);
+    // The compact layout (index-referencing leaves, triangles paired into quads) takes less than
+    // half the BVH's memory; with it the medium-quality build, whose peak memory is the compact
+    // tree's own (measured: README, Scenes). Robust mode: Embree's quad test is not watertight
+    // along a quad's diagonal without it (rays through it missed both halves); its Plücker test is.
+    if (compact_) rtcSetSceneFlags(scene, RTCSceneFlags(RTC_SCENE_FLAG_COMPACT | RTC_SCENE_FLAG_ROBUST));
     rtcSetSceneBuildQuality(scene, compact_ ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
     return scene;
   };
@@ -387,7 +405,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   const unsigned instID = rh.hit.instID[0];
   const Instance& inst = instID == RTC_INVALID_GEOMETRY_ID ? instances_[0]
                                                            : instances_[instID - prototypes_[0].parts.size() + 1];
-  *hit = surfaceOf(inst, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
+  const Prototype& proto = prototypes_[inst.prototype];
+  uint32_t primID = rh.hit.primID;
+  float b1 = rh.hit.u, b2 = rh.hit.v;
+  triangleOfHit(proto, proto.parts[rh.hit.geomID], &primID, &b1, &b2);
+  *hit = surfaceOf(inst, rh.hit.geomID, primID, b1, b2);
   hit->t = rh.ray.tfar;
   return true;
 }
@@ -415,6 +437,138 @@ bool Scene::occluded(const Ray& ray) const {
 }
 
 namespace {
+constexpr uint32_t kUnpaired = UINT32_MAX;
+
+// Triangle t's corners run the directed edge a -> b: the triangle across from it, b -> a on a
+// consistently oriented mesh, faces the same way.
+bool runsEdge(const uint32_t* c, uint32_t a, uint32_t b) {
+  return (c[0] == a && c[1] == b) || (c[1] == a && c[2] == b) || (c[2] == a && c[0] == b);
+}
+bool distinctCorners(const uint32_t* c) { return c[0] != c[1] && c[1] != c[2] && c[0] != c[2]; }
+uint32_t oppositeCorner(const uint32_t* c, uint32_t a, uint32_t b) {
+  return c[0] != a && c[0] != b ? c[0] : c[1] != a && c[1] != b ? c[1] : c[2];
+}
+// Triangles t and s (corners c, d) make a quad across c's edge k, c[k] -> c[k+1]: s runs it
+// backwards and its third corner is not t's (which would fold s onto t).
+bool pairsAcross(const uint32_t* c, int k, const uint32_t* d) {
+  const uint32_t a = c[k], b = c[(k + 1) % 3];
+  return runsEdge(d, b, a) && oppositeCorner(d, a, b) != c[(k + 2) % 3];
+}
+
+// Greedy matching of a mesh's n triangles (corners tri, 3 per triangle, into `vertices`
+// positions P) across shared edges: partner[t] = the triangle t pairs with, or kUnpaired.
+// Triangles are taken in order, each pairing with an unpaired neighbour across its longest edge
+// that has one, so a quad mesh's triangles pair across their diagonals, back into its quads.
+// Returns the number of pairs.
+uint32_t matchTriangles(const uint32_t* tri, uint32_t n, uint32_t vertices, const Vec3* P, uint32_t* partner) {
+  // The triangles around each vertex, compressed rows: around[start[v] .. start[v+1]).
+  std::vector<uint32_t> start(size_t(vertices) + 1, 0), around(3 * size_t(n));
+  for (size_t i = 0; i < 3 * size_t(n); ++i) ++start[tri[i] + 1];
+  for (size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
+  for (uint32_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) around[start[tri[3 * size_t(t) + k]]++] = t;
+  for (size_t v = vertices; v > 0; --v) start[v] = start[v - 1];  // filling moved each row's start to the next
+  start[0] = 0;
+
+  uint32_t pairs = 0;
+  for (uint32_t t = 0; t < n; ++t) {
+    const uint32_t* c = tri + 3 * size_t(t);
+    if (partner[t] != kUnpaired || !distinctCorners(c)) continue;
+    float length[3];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = P[c[(k + 1) % 3]] - P[c[k]];
+      length[k] = glm::dot(e, e);
+    }
+    int order[3] = {0, 1, 2};
+    std::stable_sort(order, order + 3, [&](int i, int j) { return length[i] > length[j]; });
+    for (int k : order) {
+      const uint32_t b = c[(k + 1) % 3];
+      for (uint32_t i = start[b]; i < start[b + 1] && partner[t] == kUnpaired; ++i) {
+        const uint32_t s = around[i];
+        const uint32_t* d = tri + 3 * size_t(s);
+        if (s == t || partner[s] != kUnpaired || !distinctCorners(d) || !pairsAcross(c, k, d)) continue;
+        partner[t] = s, partner[s] = t;
+        ++pairs;
+      }
+      if (partner[t] != kUnpaired) break;
+    }
+  }
+  return pairs;
+}
+}  // namespace
+
+void Scene::pairIntoQuads(Prototype& proto) {
+  std::vector<uint32_t> partner(proto.triangles, kUnpaired);
+  size_t quads = 0;
+  for (Part& part : proto.parts) {
+    const uint32_t* tri = proto.indices.data() + 3 * size_t(part.firstTriangle);
+    part.pairs = matchTriangles(tri, part.triangleCount, part.vertexCount, proto.positions.data() + part.firstVertex,
+                                partner.data() + part.firstTriangle);
+    part.firstQuad = uint32_t(quads);
+    quads += part.triangleCount - part.pairs;
+  }
+  proto.quads.resize(4 * quads);
+  for (const Part& part : proto.parts) {
+    const uint32_t* tri = proto.indices.data() + 3 * size_t(part.firstTriangle);
+    const uint32_t* mate = partner.data() + part.firstTriangle;
+    uint32_t* q = proto.quads.data() + 4 * size_t(part.firstQuad);
+    // Pairs first, in the order of their first triangles: t = (c0, c1, c2) meets s across
+    // c[k] -> c[k+1], and the quad (c[k+2], c[k], o, c[k+1]) has t and s as its halves
+    // (v0, v1, v3) and (v2, v3, v1), each a rotation of the file's corners (same facing).
+    for (uint32_t t = 0; t < part.triangleCount; ++t) {
+      if (mate[t] == kUnpaired || mate[t] < t) continue;
+      const uint32_t* c = tri + 3 * size_t(t);
+      const uint32_t* d = tri + 3 * size_t(mate[t]);
+      int k = 0;
+      while (!pairsAcross(c, k, d)) ++k;
+      const uint32_t a = c[k], b = c[(k + 1) % 3];
+      q[0] = c[(k + 2) % 3], q[1] = a, q[2] = oppositeCorner(d, a, b), q[3] = b;
+      q += 4;
+    }
+    // Then every triangle left single, as the quad (c0, c1, c2, c2).
+    for (uint32_t t = 0; t < part.triangleCount; ++t) {
+      if (mate[t] != kUnpaired) continue;
+      const uint32_t* c = tri + 3 * size_t(t);
+      q[0] = c[0], q[1] = c[1], q[2] = c[2], q[3] = c[2];
+      q += 4;
+    }
+  }
+  std::vector<uint32_t>().swap(proto.indices);
+  proto.paired = true;
+}
+
+std::array<uint32_t, 3> Scene::corners(const Prototype& proto, const Part& part, uint32_t primID) {
+  if (!proto.paired) {
+    const uint32_t* c = &proto.indices[3 * (size_t(part.firstTriangle) + primID)];
+    return {c[0], c[1], c[2]};
+  }
+  if (primID >= 2 * part.pairs) {
+    const uint32_t* q = &proto.quads[4 * (size_t(part.firstQuad) + part.pairs + (primID - 2 * part.pairs))];
+    return {q[0], q[1], q[2]};
+  }
+  const uint32_t* q = &proto.quads[4 * (size_t(part.firstQuad) + primID / 2)];
+  return primID & 1 ? std::array<uint32_t, 3>{q[2], q[3], q[1]} : std::array<uint32_t, 3>{q[0], q[1], q[3]};
+}
+
+void Scene::triangleOfHit(const Prototype& proto, const Part& part, uint32_t* primID, float* b1, float* b2) {
+  if (!proto.paired) return;
+  const uint32_t quad = *primID;
+  if (quad >= part.pairs) {  // a single triangle (a, b, c, c): Embree hits its half (a, b, c)
+    *primID = 2 * part.pairs + (quad - part.pairs);
+    return;
+  }
+  // Embree's quad coordinates: (u, v) on the half (v0, v1, v3), where u + v ≤ 1; the half
+  // (v2, v3, v1)'s own (u', v') reported as (1 − u', 1 − v'), so that u + v > 1 there. On the
+  // diagonal both halves hold the point.
+  if (*b1 + *b2 <= 1.0f) {
+    *primID = 2 * quad;
+  } else {
+    *primID = 2 * quad + 1;
+    *b1 = 1.0f - *b1, *b2 = 1.0f - *b2;
+  }
+}
+
+namespace {
 uint64_t mix64(uint64_t x) {  // splitmix64's finaliser
   x ^= x >> 30, x *= 0xbf58476d1ce4e5b9ull;
   x ^= x >> 27, x *= 0x94d049bb133111ebull;
@@ -431,15 +585,14 @@ bool Scene::presentAt(const Prototype& proto, const Part& part, uint32_t primID,
                       uint64_t rayHash) const {
   const Material& m = materials_[part.material];
   const uint32_t triangle = part.firstTriangle + primID;
+  const std::array<uint32_t, 3> idx = corners(proto, part, primID);
   Vec2 uv(0.0f);
   if (part.firstUV >= 0) {
-    const uint32_t* idx = &proto.indices[3 * size_t(triangle)];
     const Vec2* uvs = proto.uvs.data() + part.firstUV;
     uv = (1 - b1 - b2) * uvs[idx[0]] + b1 * uvs[idx[1]] + b2 * uvs[idx[2]];
   }
   float alpha = m.alpha ? m.alpha->eval(uv) : 1.0f;
   if (part.firstColor >= 0) {  // COLOR_0's alpha multiplies the coverage
-    const uint32_t* idx = &proto.indices[3 * size_t(triangle)];
     const glm::vec4* C = proto.colors.data() + part.firstColor;
     alpha *= (1 - b1 - b2) * C[idx[0]].a + b1 * C[idx[1]].a + b2 * C[idx[2]].a;
   }
@@ -461,8 +614,10 @@ void Scene::alphaFilter(const RTCFilterFunctionNArguments* args) {
     uint64_t ray = mix64(bitsOf(RTCRayN_org_x(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_org_y(args->ray, N, i)));
     ray = mix64(ray ^ bitsOf(RTCRayN_org_z(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_x(args->ray, N, i)));
     ray = mix64(ray ^ bitsOf(RTCRayN_dir_y(args->ray, N, i)) << 32 ^ bitsOf(RTCRayN_dir_z(args->ray, N, i)));
-    if (!data.scene->presentAt(proto, part, RTCHitN_primID(args->hit, N, i), RTCHitN_u(args->hit, N, i),
-                               RTCHitN_v(args->hit, N, i), ray))
+    uint32_t primID = RTCHitN_primID(args->hit, N, i);
+    float b1 = RTCHitN_u(args->hit, N, i), b2 = RTCHitN_v(args->hit, N, i);
+    triangleOfHit(proto, part, &primID, &b1, &b2);
+    if (!data.scene->presentAt(proto, part, primID, b1, b2, ray))
       args->valid[i] = 0;
   }
 }
@@ -471,7 +626,7 @@ SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t p
   const Prototype& proto = prototypes_[inst.prototype];
   const Part& part = proto.parts[partIndex];
   const uint32_t triangle = part.firstTriangle + primID;
-  const uint32_t* idx = &proto.indices[3 * size_t(triangle)];
+  const std::array<uint32_t, 3> idx = corners(proto, part, primID);
   const Vec3* P = proto.positions.data() + part.firstVertex;
   const Vec3 &a = P[idx[0]], &b = P[idx[1]], &c = P[idx[2]];
   const bool placed = inst.prototype != 0;  // an instance: object space to world space
@@ -562,7 +717,7 @@ std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {
   const Instance& inst = instances_[instance];
   const Prototype& proto = prototypes_[inst.prototype];
   const Part& pt = proto.parts[part];
-  const uint32_t* idx = &proto.indices[3 * (size_t(pt.firstTriangle) + primID)];
+  const std::array<uint32_t, 3> idx = corners(proto, pt, primID);
   std::array<Vec3, 3> v;
   for (int k = 0; k < 3; ++k) {
     v[k] = proto.positions[pt.firstVertex + idx[k]];

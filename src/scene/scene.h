@@ -212,6 +212,8 @@ class Scene {
   size_t storedTriangleCount() const;
   size_t instanceCount() const { return instances_.size() - 1; }
   bool compactBvh() const { return compact_; }
+  // The compact layout's stored triangles that make quads in pairs (the rest are quads alone).
+  size_t pairedTriangleCount() const;
   const Bounds& bounds() const { return bounds_; }
   float epsilon() const { return epsilon_; }
   RTCScene embreeScene() const { return rtcScene_; }
@@ -227,6 +229,9 @@ class Scene {
   struct Part {
     uint32_t firstVertex, vertexCount, firstTriangle, triangleCount, material;
     int64_t firstNormal = -1, firstUV = -1, firstTangent = -1, firstColor = -1;
+    // Compact layout only (Prototype::paired): its quads start at firstQuad in the prototype's
+    // quads; the first `pairs` are pairs of its triangles, the rest single triangles.
+    uint32_t firstQuad = 0, pairs = 0;
   };
   struct Prototype {
     std::vector<Vec3> positions;  // world space for prototype 0, the object's space otherwise
@@ -235,10 +240,17 @@ class Scene {
     std::vector<glm::vec4> tangents;
     std::vector<glm::vec4> colors;
     std::vector<uint32_t> indices;  // 3 per triangle, into its part's vertices
+    // The compact layout stores the triangles as Embree quads instead, 4 indices a quad, and
+    // `indices` is freed (pairIntoQuads): a part's triangles 2k and 2k + 1 are the halves
+    // (v0, v1, v3) and (v2, v3, v1) of its quad k < pairs; each later triangle is a quad
+    // (a, b, c, c). Half the primitives: the BVH takes about half the memory.
+    std::vector<uint32_t> quads;
+    bool paired = false;
     std::vector<Part> parts;
     Bounds bounds;
     RTCScene rtc = nullptr;  // instanced prototypes' own Embree scene
-    uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
+    uint32_t triangles = 0;
+    uint32_t triangleCount() const { return triangles; }
   };
   // A placement of a prototype. Instance 0 places prototype 0 (the world) as it is.
   struct Instance {
@@ -261,6 +273,13 @@ class Scene {
   // at or above alpha), so traversal goes on past it, for closest hits and shadow rays alike.
   static void alphaFilter(const RTCFilterFunctionNArguments* args);
   bool presentAt(const Prototype& proto, const Part& part, uint32_t primID, float b1, float b2, uint64_t rayHash) const;
+  // Triangle primID of the part: its corners, indices into the part's vertices.
+  static std::array<uint32_t, 3> corners(const Prototype& proto, const Part& part, uint32_t primID);
+  // What Embree reports on a part (its primitive primID, hit coordinates u, v) as the triangle
+  // primID and its barycentrics (b1, b2): the same numbers unless the prototype is paired.
+  static void triangleOfHit(const Prototype& proto, const Part& part, uint32_t* primID, float* b1, float* b2);
+  // The compact layout's storage: each part's triangles paired across shared edges into quads.
+  static void pairIntoQuads(Prototype& proto);
   // The surface on triangle primID of the part, placed by the instance.
   SurfaceHit surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2) const;
   // Triangle `primitive`'s instance, part and triangle within the part.
