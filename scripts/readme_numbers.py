@@ -2,7 +2,7 @@
 """README's measured numbers, generated instead of typed: each block between
 `<!-- NAME:begin -->` and `<!-- NAME:end -->` in README.md is rewritten from what produced it.
 
-    scripts/readme_numbers.py --bench                  # runs `build/photonlab bench` (~75 s): block "bench"
+    scripts/readme_numbers.py --bench                  # runs `build/photonlab bench` (~90 s): block "bench"
     scripts/readme_numbers.py --experiment results/X   # block "experiment:X": X's summary and final errors
     scripts/readme_numbers.py --shipped results/       # block "shipped-times": each shipped experiment's cost
     scripts/readme_numbers.py --integrators            # block "integrators": `photonlab integrators --markdown`

@@ -2,6 +2,7 @@
 // tracer achieves against it, single-threaded and on all cores.
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <malloc.h>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/parallel.h"
+#include "io/metrics.h"
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "photon/photon_tracer.h"
@@ -28,45 +30,81 @@ double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Rays per second of rtcIntersect1 alone: random origins inside the scene's bounds and
-// uniformly random directions (maximally incoherent), generated before timing.
-double embreeRaysPerSecond(const Scene& scene, int threads) {
+// Embree's ceilings, each query alone on rays generated before timing.
+//   closest hit (rtcIntersect1): random origins inside the scene's bounds, uniformly random
+//     directions (maximally incoherent), unbounded;
+//   occlusion (rtcOccluded1): segments between two random points inside the bounds, as shadow
+//     rays are (finite, towards a point); Embree stops at the first hit, so they cost less.
+struct EmbreeRates {
+  double closest = 0, occlusion = 0;  // rays per second
+};
+// The best of several measurements, rate by rate.
+void keepBestRates(EmbreeRates& best, const EmbreeRates& m) {
+  best.closest = std::max(best.closest, m.closest);
+  best.occlusion = std::max(best.occlusion, m.occlusion);
+}
+
+EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
   const size_t chunk = 1 << 16, chunks = 64;
-  std::vector<Ray> rays(chunk);
+  std::vector<Ray> rays(chunk), segments(chunk);
   Rng rng(7, 1);
   const Bounds& b = scene.bounds();
   Vec3 lo = b.lo + 0.05f * (b.hi - b.lo), ext = 0.9f * (b.hi - b.lo);
+  auto inside = [&] { return lo + ext * Vec3(rng.uniform(), rng.uniform(), rng.uniform()); };
   for (auto& r : rays) {
-    r.o = lo + ext * Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+    r.o = inside();
     r.d = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+    r.tmax = INFINITY;
+  }
+  for (auto& r : segments) {
+    r.o = inside();
+    const Vec3 d = inside() - r.o;
+    const float length = std::max(glm::length(d), 1e-6f);
+    r.d = d / length;
+    r.tmax = length;
   }
   // Hits are counted per chunk and published once: a per-thread counter array incremented per
   // ray shares one cache line between the threads, and that false sharing made the 2-thread
   // ceiling read lower than the 1-thread one.
   std::atomic<uint64_t> hits{0};
-  auto t0 = std::chrono::steady_clock::now();
-  parallelFor(chunks, threads, [&](size_t, int) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    uint64_t chunkHits = 0;
-    for (const Ray& r : rays) {
-      RTCRayHit rh;
-      rh.ray.org_x = r.o.x, rh.ray.org_y = r.o.y, rh.ray.org_z = r.o.z;
-      rh.ray.dir_x = r.d.x, rh.ray.dir_y = r.d.y, rh.ray.dir_z = r.d.z;
-      rh.ray.tnear = 0, rh.ray.tfar = INFINITY, rh.ray.time = 0, rh.ray.mask = 0xFFFFFFFFu;
-      rh.ray.id = 0, rh.ray.flags = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(scene.embreeScene(), &context, &rh);
-      chunkHits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-    }
-    hits += chunkHits;
-  });
-  double s = seconds(t0);
-  return double(chunk * chunks) / s;
+  auto rate = [&](bool occlusion) {
+    auto t0 = std::chrono::steady_clock::now();
+    parallelFor(chunks, threads, [&](size_t, int) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      uint64_t chunkHits = 0;
+      for (const Ray& r : occlusion ? segments : rays) {
+        RTCRayHit rh;
+        rh.ray.org_x = r.o.x, rh.ray.org_y = r.o.y, rh.ray.org_z = r.o.z;
+        rh.ray.dir_x = r.d.x, rh.ray.dir_y = r.d.y, rh.ray.dir_z = r.d.z;
+        rh.ray.tnear = 0, rh.ray.tfar = r.tmax, rh.ray.time = 0, rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0, rh.ray.flags = 0;
+        if (occlusion) {
+          rtcOccluded1(scene.embreeScene(), &context, &rh.ray);
+          chunkHits += rh.ray.tfar < 0;
+        } else {
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rtcIntersect1(scene.embreeScene(), &context, &rh);
+          chunkHits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+      }
+      hits += chunkHits;
+    });
+    return double(chunk * chunks) / seconds(t0);
+  };
+  EmbreeRates r;
+  r.closest = rate(false);
+  r.occlusion = rate(true);
+  return r;
 }
 
 struct PathRate {
-  double samplesPerSecond, raysPerSecond;
+  double samplesPerSecond = 0, raysPerSecond = 0, shadowRaysPerSecond = 0;
+  // The share of the ceiling the tracer reaches: the time Embree alone would take for its
+  // closest-hit rays and its shadow rays, each kind at its own ceiling, over the time it took.
+  double ofCeiling(const EmbreeRates& e) const {
+    return (raysPerSecond - shadowRaysPerSecond) / e.closest + shadowRaysPerSecond / e.occlusion;
+  }
 };
 
 PathRate pathTracerRate(const Scene& scene, int threads, int spp, bool spectral = false) {
@@ -76,11 +114,31 @@ PathRate pathTracerRate(const Scene& scene, int threads, int spp, bool spectral 
   o.threads = threads;
   o.spectral = spectral;
   auto integrator = makeIntegrator("path", o);
-  uint64_t rays0 = Scene::raysTraced();
+  const uint64_t rays0 = Scene::raysTraced(), shadow0 = Scene::shadowRaysTraced();
   RenderInfo stats;
   render(scene, *integrator, o, &stats);
-  uint64_t rays = Scene::raysTraced() - rays0;
-  return {256.0 * 256.0 * stats.spp / stats.seconds, rays / stats.seconds};
+  const double rays = double(Scene::raysTraced() - rays0), shadow = double(Scene::shadowRaysTraced() - shadow0);
+  return {256.0 * 256.0 * stats.spp / stats.seconds, rays / stats.seconds, shadow / stats.seconds};
+}
+
+// The relMSE (photonlab compare's) that a path-traced image of `seconds` has, without a
+// reference: two independent renders (seeds 1 and 2) of half the time each, whose mean is the
+// image of `seconds` (relMSEFromHalves). Returns it, and the samples per pixel the mean has.
+std::pair<double, int> equalTimeRelMSE(const Scene& scene, int threads, int width, double seconds) {
+  ImageRGB half[2];
+  int spp = 0;
+  for (int k = 0; k < 2; ++k) {
+    RenderOptions o;
+    o.width = o.height = width;
+    o.spp = 0;  // the time alone
+    o.timeLimit = seconds / 2;
+    o.threads = threads;
+    o.seed = uint64_t(k + 1);
+    RenderInfo info;
+    half[k] = render(scene, *makeIntegrator("path", o), o, &info);
+    spp += info.spp;
+  }
+  return {relMSEFromHalves(half[0], half[1]), spp};
 }
 
 // The machine is shared and noisy: report the best of five runs of a measurement (with three,
@@ -157,7 +215,7 @@ bool operator>(const TraceRate& a, const TraceRate& b) { return a.raysPerSecond 
 
 }  // namespace
 
-int runBench(const std::string& scenePath, int threads, int spp) {
+int runBench(const std::string& scenePath, const std::string& glassScenePath, int threads, int spp) {
   auto scene = loadGltf(scenePath);
   int all = resolveThreads(threads);
   std::printf("photonlab bench: %s (%zu triangles), path tracer at 256x256, %d spp, best of 5\n\n",
@@ -170,7 +228,7 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   // ceiling once caught a fast period (7.1 M rays/s on one thread) that the tracers, measured
   // a minute later at 6.6-level speed, missed.
   const int columns[2] = {1, all};
-  double embree[2] = {0, 0};
+  EmbreeRates embree[2];
   PathRate path[2] = {{0, 0}, {0, 0}}, spectral[2] = {{0, 0}, {0, 0}};
   TraceRate trace[2] = {{0, 0}, {0, 0}};
   auto keepBest = [](auto& best, const auto& m) {
@@ -178,18 +236,24 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   };
   for (int round = 0; round < 5; ++round) {
     for (int c = 0; c < 2; ++c) {
-      keepBest(embree[c], embreeRaysPerSecond(*scene, columns[c]));
+      keepBestRates(embree[c], embreeRaysPerSecond(*scene, columns[c]));
       keepBest(path[c], pathTracerRate(*scene, columns[c], spp));
       keepBest(spectral[c], pathTracerRate(*scene, columns[c], spp, true));
       keepBest(trace[c], photonTraceRate(*scene, columns[c], 500000));
     }
   }
-  std::printf("| bare Embree incoherent rays (M rays/s) | %.2f | %.2f |\n", embree[0] / 1e6, embree[1] / 1e6);
+  std::printf("| bare Embree incoherent rays (M rays/s) | %.2f | %.2f |\n", embree[0].closest / 1e6, embree[1].closest / 1e6);
+  std::printf("| bare Embree occlusion rays, random segments (M rays/s) | %.2f | %.2f |\n", embree[0].occlusion / 1e6,
+              embree[1].occlusion / 1e6);
   std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", path[0].samplesPerSecond / 1e3, path[1].samplesPerSecond / 1e3);
   std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", path[0].raysPerSecond / 1e6,
               path[1].raysPerSecond / 1e6);
-  std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * path[0].raysPerSecond / embree[0],
-              100 * path[1].raysPerSecond / embree[1]);
+  std::printf("| path tracer (M shadow rays/s, of those) | %.2f | %.2f |\n", path[0].shadowRaysPerSecond / 1e6,
+              path[1].shadowRaysPerSecond / 1e6);
+  std::printf("| path tracer / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * path[0].raysPerSecond / embree[0].closest,
+              100 * path[1].raysPerSecond / embree[1].closest);
+  std::printf("| path tracer / Embree ceiling, each ray kind at its own rate | %.0f%% | %.0f%% |\n",
+              100 * path[0].ofCeiling(embree[0]), 100 * path[1].ofCeiling(embree[1]));
   std::printf("| path tracer, --spectral (k samples/s) | %.1f | %.1f |\n", spectral[0].samplesPerSecond / 1e3,
               spectral[1].samplesPerSecond / 1e3);
   std::printf("| spectral cost: RGB rate / spectral rate | %.2fx | %.2fx |\n",
@@ -197,8 +261,8 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   std::printf("| photon tracing (M rays/s) | %.2f | %.2f |\n", trace[0].raysPerSecond / 1e6, trace[1].raysPerSecond / 1e6);
   std::printf("| photon tracing (M stored photons/s) | %.2f | %.2f |\n", trace[0].photonsPerSecond / 1e6,
               trace[1].photonsPerSecond / 1e6);
-  std::printf("| photon tracing / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * trace[0].raysPerSecond / embree[0],
-              100 * trace[1].raysPerSecond / embree[1]);
+  std::printf("| photon tracing / Embree ray rate | %.0f%% | %.0f%% |\n", 100 * trace[0].raysPerSecond / embree[0].closest,
+              100 * trace[1].raysPerSecond / embree[1].closest);
 
   // A map of about 10 million photons: build time and gathers.
   PhotonTracingOptions o;
@@ -221,6 +285,29 @@ int runBench(const std::string& scenePath, int threads, int spp) {
   std::printf("| k=50 gathers, pixel order (k/s) | %.1f | %.1f |\n", g1.pixelOrder / 1e3, gN.pixelOrder / 1e3);
   std::printf("| k=50 gathers, random order (k/s) | %.1f | %.1f |\n", g1.randomOrder / 1e3, gN.randomOrder / 1e3);
   std::printf("| memory per photon, map + tree (bytes) | %.1f | |\n", double(maps.global.memoryBytes()) / maps.global.size());
+
+  // The mirror-and-glass Cornell box, where the path tracer is compared with Mitsuba 3's (README,
+  // Performance): its rates, and the error its image has after 10 s on every thread.
+  {
+    auto glass = loadGltf(glassScenePath);
+    PathRate rate[2];
+    EmbreeRates ceiling[2];
+    for (int round = 0; round < 5; ++round)
+      for (int c = 0; c < 2; ++c) {
+        keepBestRates(ceiling[c], embreeRaysPerSecond(*glass, columns[c]));
+        keepBest(rate[c], pathTracerRate(*glass, columns[c], spp));
+      }
+    const auto [relmse, relmseSpp] = equalTimeRelMSE(*glass, all, 256, 10.0);
+    std::printf("\n| path tracer on %s (%zu triangles), 256x256 | 1 thread | %d threads |\n|---|---|---|\n",
+                std::filesystem::path(glassScenePath).filename().string().c_str(), glass->triangleCount(), all);
+    std::printf("| samples/s (M) | %.3f | %.3f |\n", rate[0].samplesPerSecond / 1e6, rate[1].samplesPerSecond / 1e6);
+    std::printf("| rays per sample: closest-hit, shadow | %.2f, %.2f | |\n",
+                (rate[0].raysPerSecond - rate[0].shadowRaysPerSecond) / rate[0].samplesPerSecond,
+                rate[0].shadowRaysPerSecond / rate[0].samplesPerSecond);
+    std::printf("| path tracer / Embree ceiling, each ray kind at its own rate | %.0f%% | %.0f%% |\n",
+                100 * rate[0].ofCeiling(ceiling[0]), 100 * rate[1].ofCeiling(ceiling[1]));
+    std::printf("| relMSE after 10 s (two independent 5 s renders, no reference) | | %.4f (%d spp) |\n", relmse, relmseSpp);
+  }
 
   // Progressive photon mapping at 512² with 1 million photon paths per pass (all threads).
   std::printf("\n| progressive, 512x512, 1M photons/pass, %d threads | passes/s | M photons/s |\n|---|---|---|\n", all);

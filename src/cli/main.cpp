@@ -24,7 +24,7 @@
 
 namespace pl {
 extern const char* const kGitRevision;  // generated at build time (scripts/git_revision.cmake)
-int runBench(const std::string& scenePath, int threads, int spp);
+int runBench(const std::string& scenePath, const std::string& glassScenePath, int threads, int spp);
 int runLoadBench(const std::string& path, int repeats, Scene::BvhLayout bvh);
 }
 
@@ -545,6 +545,10 @@ int main(int argc, char** argv) {
   std::string benchScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
   int benchThreads = 0, benchSpp = 8;
   bench->add_option("--scene", benchScene)->capture_default_str();
+  std::string benchGlassScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf";
+  bench->add_option("--glass-scene", benchGlassScene,
+                    "The mirror-and-glass Cornell box: path-tracer rates and the relMSE after 10 s (README, Performance)")
+      ->capture_default_str();
   bench->add_option("--threads", benchThreads, "Threads for the multi-threaded column (0 = all cores)");
   bench->add_option("--spp", benchSpp, "Path-tracer samples per pixel at 256x256")->capture_default_str();
   std::string benchLoad;
@@ -687,7 +691,7 @@ int main(int argc, char** argv) {
     if (*compare) return cmdCompare(imagePath, referencePath);
     if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
     if (*bench && !benchLoad.empty()) return runLoadBench(benchLoad, benchRepeats, bvhLayout);
-    if (*bench) return runBench(benchScene, benchThreads, benchSpp);
+    if (*bench) return runBench(benchScene, benchGlassScene, benchThreads, benchSpp);
     if (*integratorsCmd) {
       if (markdown) {
         std::printf("%s", integratorsMarkdown().c_str());

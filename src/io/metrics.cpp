@@ -26,4 +26,15 @@ ErrorMetrics compareImages(const ImageRGB& x, const ImageRGB& r) {
   return m;
 }
 
+double relMSEFromHalves(const ImageRGB& a, const ImageRGB& b) {
+  if (a.width != b.width || a.height != b.height || a.data.empty())
+    throw Error("relMSEFromHalves: the two images differ in size or are empty");
+  double rel = 0;
+  for (size_t i = 0; i < a.data.size(); ++i) {
+    const double u = a.data[i], v = b.data[i], x = (u + v) / 2;
+    rel += (u - v) * (u - v) / 4 / (x * x + 0.01);
+  }
+  return rel / double(a.data.size());
+}
+
 }  // namespace pl

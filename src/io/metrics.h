@@ -14,4 +14,9 @@ struct ErrorMetrics {
 
 ErrorMetrics compareImages(const ImageRGB& image, const ImageRGB& reference);
 
+// The relMSE that the mean x = (a + b)/2 of two independent unbiased renders a, b of equal
+// variance has, without a reference: E[(x − r)²] = Var x = E[(a − b)²]/4 per value, divided by
+// x² + 0.01 in place of r² + 0.01 (photonlab bench: the error after a given time).
+double relMSEFromHalves(const ImageRGB& a, const ImageRGB& b);
+
 }  // namespace pl

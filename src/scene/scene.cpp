@@ -8,15 +8,16 @@
 namespace pl {
 
 namespace {
-std::atomic<uint64_t> finishedThreadRays{0};
+std::atomic<uint64_t> finishedThreadRays{0}, finishedThreadShadowRays{0};
 struct RayCounter {
-  uint64_t count = 0;
-  ~RayCounter() { finishedThreadRays += count; }
+  uint64_t count = 0, shadow = 0;  // all rays; shadow (occlusion) rays among them
+  ~RayCounter() { finishedThreadRays += count, finishedThreadShadowRays += shadow; }
 };
 thread_local RayCounter rayCounter;
 }  // namespace
 
 uint64_t Scene::raysTraced() { return finishedThreadRays.load() + rayCounter.count; }
+uint64_t Scene::shadowRaysTraced() { return finishedThreadShadowRays.load() + rayCounter.shadow; }
 
 Scene::Scene() {
   device_ = rtcNewDevice(nullptr);
@@ -432,7 +433,7 @@ bool Scene::occluded(const Ray& ray) const {
   r.id = 0;
   r.flags = 0;
   rtcOccluded1(rtcScene_, &context, &r);
-  ++rayCounter.count;
+  ++rayCounter.count, ++rayCounter.shadow;
   return r.tfar < 0.0f;  // Embree sets tfar = −inf when something was hit
 }
 

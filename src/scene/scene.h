@@ -220,6 +220,7 @@ class Scene {
   // Rays (closest-hit and shadow) traced so far by this process, for benchmarks. Counted per
   // thread without atomics; a thread adds its count to the total when it exits.
   static uint64_t raysTraced();
+  static uint64_t shadowRaysTraced();  // the occluded() queries among them
   std::string source;  // file it was loaded from, for messages and metadata
 
  private:
