@@ -77,6 +77,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     const GuideLookup here =
         delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
     const DirectionalQuadtree* guideHere = here.distribution;
+    if (guideHere) guideHere->prefetch();  // its top levels load while next-event estimation traces
     const float alpha = guideHere && !guideHere->empty() ? options_.bsdfFraction : 1.0f;
     // Next-event estimation, weighted by the power heuristic against BSDF sampling's density,
     // not the mixture's: MIS needs only that a path's weights over the techniques that can make
