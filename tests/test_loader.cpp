@@ -1083,6 +1083,36 @@ SurfaceAgreement sameSurfaces(const Scene& a, const Scene& b) {
   return r;
 }
 
+// Scenes a and b lit by emissive surfaces render the same 32² images, region by region (4×4
+// pixels) within their noise: through shadow rays (path, 64 spp) and through photons alone
+// (PPM, 8 passes of 50 000 photons), two seeds each.
+void sameImages(const Scene& a, const Scene& b) {
+  RenderOptions o;
+  o.width = o.height = 32;
+  for (const char* name : {"path", "ppm"}) {
+    INFO(name);
+    auto image = [&](const Scene& s, uint64_t seed) {
+      RenderOptions r = o;
+      r.seed = seed;
+      if (std::string(name) == "path") {
+        r.spp = 64;
+        return render(s, *makeIntegrator(name, r), r, nullptr);
+      }
+      return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
+    };
+    RegionAgreement r = regions(image(a, 1), image(a, 2), image(b, 3), image(b, 4), 4, 1e-6);
+    CHECK(r.meanZ2 < 2.0);
+    CHECK(r.worst < 5.0);
+  }
+}
+
+// The file loaded with the given BVH layout.
+std::unique_ptr<Scene> loadWithBvh(const std::string& path, Scene::BvhLayout bvh) {
+  GltfLoadOptions options;
+  options.bvh = bvh;
+  return loadGltf(path, nullptr, options);
+}
+
 }  // namespace
 
 TEST_CASE("loader: a mesh placed by several nodes - or by EXT_mesh_gpu_instancing - is stored once (Embree instances) and renders as its copies would") {
@@ -1126,23 +1156,7 @@ TEST_CASE("loader: instanced and copied meshes give the same image - path tracer
   // files' images agree within their noise.
   auto a = loadGltf(threeQuads(true, true).write("instanced-lit.gltf"));
   auto b = loadGltf(threeQuads(false, true).write("copies-lit.gltf"));
-  RenderOptions o;
-  o.width = o.height = 32;
-  for (const char* name : {"path", "ppm"}) {
-    INFO(name);
-    auto image = [&](const Scene& s, uint64_t seed) {
-      RenderOptions r = o;
-      r.seed = seed;
-      if (std::string(name) == "path") {
-        r.spp = 64;
-        return render(s, *makeIntegrator(name, r), r, nullptr);
-      }
-      return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
-    };
-    RegionAgreement r = regions(image(*a, 1), image(*a, 2), image(*b, 3), image(*b, 4), 4, 1e-6);
-    CHECK(r.meanZ2 < 2.0);
-    CHECK(r.worst < 5.0);
-  }
+  sameImages(*a, *b);
 }
 
 namespace {
@@ -1166,17 +1180,12 @@ std::vector<std::array<float, 9>> triangleSet(const Scene& scene) {
 }  // namespace
 
 TEST_CASE("scene: the compact layout pairs triangles across shared edges into Embree quads - every ray meets the surface it meets with the fast layout") {
-  auto load = [](const std::string& path, Scene::BvhLayout bvh) {
-    GltfLoadOptions options;
-    options.bvh = bvh;
-    return loadGltf(path, nullptr, options);
-  };
   SECTION("files: the floor and a quad placed three times - instanced, mirrored, emissive") {
     for (bool instanced : {true, false})
       for (bool emissive : {false, true}) {
         INFO((instanced ? "instanced" : "copies") << (emissive ? ", emissive" : ""));
         const std::string file = threeQuads(instanced, emissive).write("layouts.gltf");
-        auto a = load(file, Scene::BvhLayout::Fast), b = load(file, Scene::BvhLayout::Compact);
+        auto a = loadWithBvh(file, Scene::BvhLayout::Fast), b = loadWithBvh(file, Scene::BvhLayout::Compact);
         CHECK(!a->compactBvh());
         CHECK(b->compactBvh());
         // Every quad of the file is the triangles (0, 1, 2) and (0, 2, 3), which run their
@@ -1256,7 +1265,7 @@ TEST_CASE("scene: the compact layout pairs triangles across shared edges into Em
       GltfFixture f = floorWithTexture("data:image/png;base64," + base64(pngRow(2, 6, 8, {200, 200, 200, 255, 200, 200, 200, 64})));
       f.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
       f.doc["materials"][0]["alphaMode"] = mode;
-      auto scene = load(f.write("alpha-quads.gltf"), Scene::BvhLayout::Compact);
+      auto scene = loadWithBvh(f.write("alpha-quads.gltf"), Scene::BvhLayout::Compact);
       CHECK(scene->pairedTriangleCount() == scene->storedTriangleCount());
       const int N = 20000;
       auto fraction = [&](float x) {
@@ -1277,32 +1286,11 @@ TEST_CASE("scene: the compact layout pairs triangles across shared edges into Em
 }
 
 TEST_CASE("scene: the compact layout renders what the fast one does - path tracer and photons, emissive quads") {
-  // Region by region (4×4 pixels) the two layouts' images agree within their noise, through
-  // shadow rays (path) and photons alone (PPM, whose photons start on the paired lights).
+  // The two layouts' images agree (sameImages), through shadow rays and through photons alone
+  // (PPM, whose photons start on the paired lights).
   const std::string file = threeQuads(true, true).write("layouts-lit.gltf");
-  auto load = [&](Scene::BvhLayout bvh) {
-    GltfLoadOptions options;
-    options.bvh = bvh;
-    return loadGltf(file, nullptr, options);
-  };
-  auto a = load(Scene::BvhLayout::Fast), b = load(Scene::BvhLayout::Compact);
-  RenderOptions o;
-  o.width = o.height = 32;
-  for (const char* name : {"path", "ppm"}) {
-    INFO(name);
-    auto image = [&](const Scene& s, uint64_t seed) {
-      RenderOptions r = o;
-      r.seed = seed;
-      if (std::string(name) == "path") {
-        r.spp = 64;
-        return render(s, *makeIntegrator(name, r), r, nullptr);
-      }
-      return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
-    };
-    RegionAgreement r = regions(image(*a, 1), image(*a, 2), image(*b, 3), image(*b, 4), 4, 1e-6);
-    CHECK(r.meanZ2 < 2.0);
-    CHECK(r.worst < 5.0);
-  }
+  auto a = loadWithBvh(file, Scene::BvhLayout::Fast), b = loadWithBvh(file, Scene::BvhLayout::Compact);
+  sameImages(*a, *b);
 }
 
 TEST_CASE("loader: COLOR_0 multiplies the base colour per vertex - per pixel through shadow rays, light tracing and photons - and its alpha the coverage") {
