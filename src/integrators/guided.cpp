@@ -7,6 +7,7 @@
 
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "integrators/path.h"
 #include "integrators/registry.h"
 #include "render/camera_path.h"
 #include "render/checkpoints.h"
@@ -242,6 +243,22 @@ double sampleVariance(const IterationSums& it, int W, int H, int parity) {
   return pairs ? d2 / pairs / 2 : 0.0;
 }
 
+// The relative variance of one sample of this iteration, as relMSE weighs errors: each pixel's
+// sample variance (of the channel mean a) over m² + 0.01, m the pixel's value in `image` (Σ w·mean
+// over Σ w per pixel), averaged over the pixels with two samples or more (0 if none has).
+double relativeVariance(const IterationSums& it, const std::vector<double>& numerator, const std::vector<double>& denominator) {
+  double sum = 0;
+  size_t pixels = 0;
+  for (size_t i = 0; i < it.count.size(); ++i) {
+    const uint32_t n = it.count[i];
+    if (n < 2 || !(denominator[i] > 0)) continue;
+    const double m = (numerator[3 * i] + numerator[3 * i + 1] + numerator[3 * i + 2]) / (3 * denominator[i]);
+    sum += std::max(0.0, it.a2[i] - it.a[i] * it.a[i] / n) / (n - 1) / (m * m + 0.01);
+    ++pixels;
+  }
+  return pixels ? sum / double(pixels) : 0.0;
+}
+
 }  // namespace
 
 ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* stats) {
@@ -323,24 +340,58 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   int iterations = 0, lastSamples = 0;
   std::string guideSize;
   std::vector<double> variances;  // each iteration's σ² of one sample, for the notes
+
+  // The unguided fallback. Guiding pays only where its lower variance per sample outweighs its
+  // higher cost per sample: the efficiency of an estimator is 1/(σ²·t), σ² the variance of one
+  // sample and t its time. On the plain Cornell box a guided sample has 0.63× a path-traced
+  // one's variance but costs 1.8–2× as much (README), so the guide loses time it cannot win
+  // back. With a time budget alone and fallback = auto, when the schedule reaches its last
+  // iteration a short unguided iteration (a sixteenth of the last guided one's samples, at
+  // least 4 spp) measures the path tracer's σ²·t beside the last guided iteration's, and the last
+  // iteration renders with whichever is lower. σ² is relative, as relMSE weighs errors (each
+  // pixel's variance over m² + 0.01, relativeVariance): the absolute variance is the bright
+  // pixels', and on Veach's door, where the guide's gain is in the dim room, it chose path
+  // tracing. Every iteration, guided or not, is an unbiased
+  // image of the same pixels, so the inverse-variance combination stays unbiased; the probe's
+  // samples count in the image like any iteration's. The guided iteration's t includes its
+  // recording, which the last iteration would not do (~5%), so close calls go to path tracing.
+  // With a sample count (no time budget) the schedule is kept: samples, not time, are the budget.
+  const PathIntegrator pathTracer(options_.maxDepth);
+  const bool autoFallback = options_.fallback == "auto" && fixed.empty();
+  const bool alwaysFallback = options_.fallback == "always";
+  bool probed = false, unguidedWins = false;
+  double guidedCost = 0, unguidedCost = 0;  // σ²·t of the last guided iteration and of the probe
+  int guidedIterations = 0, guidedSamples = 0;
   for (int k = 0; !budget.expired(); ++k) {
     int samples;
-    bool last;
+    bool last, unguided = false, probe = false;
     if (!fixed.empty()) {
       if (size_t(k) >= fixed.size()) break;
       samples = fixed[size_t(k)];
       last = size_t(k) + 1 == fixed.size();
+      unguided = last && alwaysFallback;
+    } else if (probed) {
+      last = true, unguided = unguidedWins;
+      samples = INT_MAX - done;
     } else {
       samples = 1 << std::min(k, 24);
       const double left = o.timeLimit - budget.elapsed();
       last = k > 0 && left < 3 * secondsPerSample * samples;
-      if (last) samples = INT_MAX - done;
+      if (last && autoFallback && guidedIterations >= 3) {
+        last = false, unguided = probe = true;
+        samples = std::max(4, guidedSamples / 16);
+      } else if (last) {
+        unguided = alwaysFallback;
+        samples = INT_MAX - done;
+      }
     }
     const double started = budget.elapsed();
-    guide->prepare(scene, k, samples, last, o.seed, threads, budget);
-    if (budget.expired()) break;
-    guideSize = guide->describe();
-    const bool record = guide->learns() && !last;
+    if (!unguided) {
+      guide->prepare(scene, guidedIterations++, samples, last, o.seed, threads, budget);
+      if (budget.expired()) break;
+      guideSize = guide->describe();
+    }
+    const bool record = !unguided && guide->learns() && !last;
     current = std::make_unique<IterationSums>(pixels);
     IterationSums& it = *current;
     for (int s = 0; s < samples && !budget.expired(); ++s) {
@@ -350,7 +401,8 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
           if (budget.expired()) return;
           const size_t pixel = size_t(y) * W + x;
           CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample), JitterOrder::XThenY);
-          Spectrum L = Li(path.ray, scene, path.lambda, path.rng, *guide, record, thread, pixelValue(pixel));
+          Spectrum L = unguided ? pathTracer.Li(path.ray, scene, path.lambda, path.rng)
+                                : Li(path.ray, scene, path.lambda, path.rng, *guide, record, thread, pixelValue(pixel));
           if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
           ++it.count[pixel];
           if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
@@ -377,12 +429,24 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
     for (uint32_t n : it.count) least = std::min(least, n);
     variances.push_back((sampleVariance(it, W, H, 0) + sampleVariance(it, W, H, 1)) / 2);
     addIteration(it, numerator, denominator);
+    const double relative = probe || !unguided ? relativeVariance(it, numerator, denominator) : 0.0;
     current.reset();
     done += int(least);
     ++iterations;
     lastSamples = int(least);
     secondsPerSample = (budget.elapsed() - started) / std::max(1, samples);
-    if (last) break;
+    if (probe) {
+      unguidedCost = relative * secondsPerSample;
+      unguidedWins = unguidedCost < guidedCost;
+      probed = true;
+    } else if (!unguided && !last) {
+      guidedCost = relative * secondsPerSample;
+      guidedSamples = samples;
+    }
+    if (last) {
+      if (unguided) guideSize += "; the last iteration path-traced";
+      break;
+    }
   }
   checkpoints.finish(infoAt, estimate);
   std::string sigma;
@@ -390,6 +454,10 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   notes_ = {std::to_string(iterations) + " iterations (the last " + std::to_string(lastSamples) + " spp), " +
                 (lastOnly ? "the last alone" : "combined by inverse variance") + "; guide: " + guideSize,
             "variance of one sample, iteration by iteration: " + sigma};
+  if (probed)
+    notes_.push_back("unguided fallback: variance x seconds per sample " + formatNumber(float(unguidedCost)) +
+                     " path-traced against " + formatNumber(float(guidedCost)) + " guided: the last iteration " +
+                     (unguidedWins ? "path-traced" : "guided"));
   if (stats) *stats = infoAt(true);
   return estimate();
 }
@@ -415,7 +483,12 @@ std::vector<ParamSpec> guidedParams() {
   photons.lo = 1, photons.hi = 4294967295.0;
   ParamSpec k{"k", ParamType::Integer, "photons: the nearest photons each cached distribution is built from", "256"};
   k.lo = 8, k.hi = 100000;
-  return {params::spp(), params::maxDepth(), guide, fraction, combine, spatial, photons, k};
+  ParamSpec fallback{"fallback", ParamType::Choice,
+                     "the last iteration path-traces: auto (with a time budget alone) when a short unguided iteration shows "
+                     "path tracing more efficient, variance x time per sample, than the guide; off: never; always",
+                     "auto"};
+  fallback.choices = {"auto", "off", "always"};
+  return {params::spp(), params::maxDepth(), guide, fraction, combine, fallback, spatial, photons, k};
 }
 
 const IntegratorRegistration registration({
@@ -427,6 +500,7 @@ const IntegratorRegistration registration({
       o.guide = p.choice("guide");
       o.bsdfFraction = float(p.real("bsdf_fraction"));
       o.combine = p.choice("combine");
+      o.fallback = p.choice("fallback");
       o.guideOptions.spatialThreshold = p.real("spatial_threshold");
       o.guideOptions.photons = uint64_t(p.integer("photons"));
       o.guideOptions.photonsPerDistribution = int(p.integer("k"));

@@ -18,6 +18,10 @@ struct GuidedOptions {
   float bsdfFraction = 0.5f;
   // How iterations are combined into the image: weighted by inverse variance, or the last alone.
   std::string combine = "inverse-variance";
+  // Whether the last iteration may path-trace instead (guided.cpp, "the unguided fallback"):
+  // "auto" with a time budget alone, when a short unguided iteration shows path tracing the more
+  // efficient (variance × time per sample); "off" never; "always" every time (for comparisons).
+  std::string fallback = "auto";
   GuideOptions guideOptions;
 };
 
