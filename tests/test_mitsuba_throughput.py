@@ -1,0 +1,46 @@
+"""scripts/mitsuba_throughput.py's photonlab half, without Mitsuba: the rate and the sample count
+it reads from photonlab's summary line, for a sample count and for a time budget, and the relMSE
+it reads from `photonlab compare`."""
+import os
+import sys
+
+import pytest
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import mitsuba_throughput as mt  # noqa: E402
+
+PHOTONLAB = os.path.join(ROOT, "build", "photonlab")
+BOX = os.path.join(ROOT, "scenes", "cornell-box.gltf")
+needs_build = pytest.mark.skipif(not os.path.exists(PHOTONLAB), reason="needs the build")
+
+
+@needs_build
+def test_rate_from_a_sample_count(tmp_path):
+    out = str(tmp_path / "a.exr")
+    rate, seconds, spp = mt.photonlab_render(PHOTONLAB, BOX, 32, out, spp=4)
+    assert spp == 4 and seconds > 0
+    assert rate == pytest.approx(32 * 32 * 4 / seconds)  # the Cornell box's camera is square
+    assert os.path.exists(out)
+
+
+@needs_build
+def test_rate_from_a_time_budget(tmp_path):
+    rate, seconds, spp = mt.photonlab_render(PHOTONLAB, BOX, 16, str(tmp_path / "b.exr"), seconds=0.5)
+    assert seconds == pytest.approx(0.5, abs=0.3) and spp >= 1
+    assert rate == pytest.approx(16 * 16 * spp / seconds)
+
+
+@needs_build
+def test_relmse_is_zero_for_the_same_image_and_positive_for_another_seed(tmp_path):
+    a, b = str(tmp_path / "a.exr"), str(tmp_path / "b.exr")
+    mt.photonlab_render(PHOTONLAB, BOX, 16, a, spp=2, seed=1)
+    mt.photonlab_render(PHOTONLAB, BOX, 16, b, spp=2, seed=2)
+    assert mt.relmse(PHOTONLAB, a, a) == 0
+    assert mt.relmse(PHOTONLAB, a, b) > 0
+
+
+@needs_build
+def test_a_failed_render_exits_with_photonlab_s_message(tmp_path):
+    with pytest.raises(SystemExit, match="missing.gltf"):
+        mt.photonlab_render(PHOTONLAB, str(tmp_path / "missing.gltf"), 16, str(tmp_path / "c.exr"), spp=1)
