@@ -75,6 +75,39 @@ TEST_CASE("ExactSum: any grouping of a sum gives the same bits, rounded once to 
   CHECK(tie.value() == std::ldexp(1.0, 53) + 2.0);
 }
 
+TEST_CASE("ExactSum: carries and borrows cross every limb boundary exactly") {
+  // Every float exponent, both signs, alone and in pairs whose exact sum a double holds (two
+  // floats within 2^28 of each other span at most 52 bits): the sum must be that double, and
+  // adding the negations must return every limb to zero. Pairs of opposite signs across a
+  // 64-bit limb boundary borrow; a negative value on an empty sum borrows through every limb.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<float> mantissa(1.0f, 2.0f);
+  auto zero = [](const ExactSum& s) {
+    for (int i = 0; i < ExactSum::kLimbs; ++i)
+      if (s.limbs()[i] != 0) return false;
+    return true;
+  };
+  int checked = 0;
+  for (int ea = -149; ea <= 127; ++ea)
+    for (int d = 0; d <= 28 && ea - d >= -149; d += 7) {
+      const float a = std::ldexp(mantissa(gen), ea) * (gen() % 2 ? -1.0f : 1.0f);
+      const float b = std::ldexp(ea - d < -126 ? 1.0f : mantissa(gen), ea - d) * (gen() % 2 ? -1.0f : 1.0f);
+      if (!std::isfinite(a) || !std::isfinite(b) || a == 0.0f || b == 0.0f) continue;
+      ExactSum s;
+      s.add(a);
+      REQUIRE(s.value() == double(a));
+      s.add(b);
+      REQUIRE(s.value() == double(a) + double(b));
+      s.add(-a), s.add(-b);
+      REQUIRE(zero(s));
+      ExactSum n;  // negative first: the borrow runs through all five limbs, then the carry back
+      n.add(-b), n.add(b);
+      REQUIRE(zero(n));
+      ++checked;
+    }
+  CHECK(checked > 1000);
+}
+
 TEST_CASE("slices: any split of a render merges into its bits (path by samples, pppm by passes)") {
   const std::string dir = GltfFixture::dir();
   SECTION("path tracer, 12 samples as 0:5, 5:6, 6:12, merged in another order") {

@@ -25,12 +25,30 @@ class ExactSum {
     // x = m · 2^(shift − 149): normal numbers carry the hidden bit, subnormals do not.
     const uint64_t m = exponent ? (fraction | 0x800000u) : fraction;
     const int shift = exponent ? int(exponent) - 1 : 0;
+    // m · 2^shift spans limb `limb` and, when the 24-bit m crosses its top, the next one
+    // (shift ≤ 253, so limb + 1 < kLimbs). Add or subtract there and carry (borrow) upwards only
+    // as far as it goes: the same sum modulo 2^320 as a full-width add, in a few instructions.
     const int limb = shift / 64, offset = shift % 64;
-    uint64_t part[kLimbs] = {};
-    part[limb] = m << offset;
-    if (offset > 40 && limb + 1 < kLimbs) part[limb + 1] = m >> (64 - offset);
-    if (bits >> 31) subtract(part);
-    else addLimbs(part);
+    const uint64_t low = m << offset, high = offset > 40 ? m >> (64 - offset) : 0;
+    if (bits >> 31) {
+      const uint64_t before = limb_[limb];
+      limb_[limb] = before - low;
+      uint64_t borrow = before < low;
+      for (int i = limb + 1; i < kLimbs && (borrow | (i == limb + 1 ? high : 0)); ++i) {
+        const uint64_t sub = (i == limb + 1 ? high : 0) + borrow, v = limb_[i];  // high < 2^24: no overflow
+        limb_[i] = v - sub;
+        borrow = v < sub;
+      }
+    } else {
+      const uint64_t sum = limb_[limb] + low;
+      uint64_t carry = sum < low;
+      limb_[limb] = sum;
+      for (int i = limb + 1; i < kLimbs && (carry | (i == limb + 1 ? high : 0)); ++i) {
+        const uint64_t add = (i == limb + 1 ? high : 0) + carry, v = limb_[i] + add;
+        carry = v < add;
+        limb_[i] = v;
+      }
+    }
   }
 
   void add(const ExactSum& o) { addLimbs(o.limb_); }

@@ -527,7 +527,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   std::vector<Spectrum> iterationColor(pixels);
   std::vector<double> strategySum(size_t(strategies) * pixels * 3, 0.0);
   std::vector<Spectrum> iterationStrategies(size_t(strategies) * pixels);
-  SplatFilm splatTotal(W, H), splatIteration(W, H);
+  SplatFilm splatTotal(W, H);
   std::vector<SplatFilm> strategySplats(size_t(strategies), SplatFilm(W, H));
   const size_t chunkSize = 4096, chunks = (pixels + chunkSize - 1) / chunkSize;
   std::vector<std::vector<LightVertex>> chunkVertices(chunks);
@@ -664,12 +664,14 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     });
     if (cut) break;
 
-    for (size_t i = 0; i < pixels; ++i)
-      for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)].add(iterationColor[i][ch]);
+    // The iteration is complete: into the exact sums, in parallel (exact, so bit for bit the
+    // serial order's), the light-side splats straight into the total.
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      for (size_t i = y * size_t(W), end = i + size_t(W); i < end; ++i)
+        for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)].add(iterationColor[i][ch]);
+    });
     for (uint64_t n : rowNonFinite) nonFinite += n;
-    splatIteration.clear();
-    splatIteration.add(chunkSplats);
-    splatTotal.add(splatIteration);
+    splatTotal.add(chunkSplats, threads);
     for (int s = 0; s < strategies; ++s) {
       for (size_t i = 0; i < pixels; ++i)
         for (int ch = 0; ch < 3; ++ch)

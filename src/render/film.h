@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/common.h"
+#include "core/parallel.h"
 #include "render/image.h"
 #include "render/render_options.h"
 
@@ -43,23 +44,36 @@ class SplatBuffer {
 class SplatFilm {
  public:
   SplatFilm(int width, int height) : width_(width), height_(height), sum_(size_t(width) * height * 3) {}
-  // Adds buffers in the order given (chunk order). The sums are exact (core/exact_sum.h), so the
-  // order does not matter to the result, and slices of a render add up to its bits.
-  void add(const std::vector<SplatBuffer>& buffers) {
-    for (const SplatBuffer& b : buffers) {
-      for (const Splat& s : b.splats()) {
-        ExactSum* p = &sum_[size_t(s.pixel) * 3];
-        p[0].add(s.r), p[1].add(s.g), p[2].add(s.b);
-      }
-      nonFinite_ += b.nonFinite();
-    }
+  // Adds the buffers' splats. The sums are exact (core/exact_sum.h), so neither the buffers'
+  // order nor the split into threads changes a bit, and slices of a render add up to its bits.
+  // With threads > 1 each thread owns a contiguous band of pixels and adds the splats that land
+  // in it (every thread reads every splat; the adds, the cost, are split).
+  void add(const std::vector<SplatBuffer>& buffers, int threads = 1) {
+    const size_t parts = size_t(std::max(1, threads)), pixels = size_t(width_) * size_t(height_);
+    parallelFor(parts, threads, [&](size_t part, int) {
+      const size_t lo = pixels * part / parts, hi = pixels * (part + 1) / parts;
+      for (const SplatBuffer& b : buffers)
+        for (const Splat& s : b.splats()) {
+          if (s.pixel < lo || s.pixel >= hi) continue;
+          ExactSum* p = &sum_[size_t(s.pixel) * 3];
+          p[0].add(s.r), p[1].add(s.g), p[2].add(s.b);
+        }
+    });
+    for (const SplatBuffer& b : buffers) nonFinite_ += b.nonFinite();
   }
-  void add(const SplatFilm& other) {
-    for (size_t i = 0; i < sum_.size(); ++i) sum_[i].add(other.sum_[i]);
+  void add(const SplatFilm& other, int threads = 1) {
+    const size_t blocks = 64;
+    parallelFor(blocks, threads, [&](size_t block, int) {
+      for (size_t i = sum_.size() * block / blocks, end = sum_.size() * (block + 1) / blocks; i < end; ++i)
+        sum_[i].add(other.sum_[i]);
+    });
     nonFinite_ += other.nonFinite_;
   }
-  void clear() {
-    std::fill(sum_.begin(), sum_.end(), ExactSum());
+  void clear(int threads = 1) {
+    const size_t blocks = 64;
+    parallelFor(blocks, threads, [&](size_t block, int) {
+      std::fill(sum_.begin() + ptrdiff_t(sum_.size() * block / blocks), sum_.begin() + ptrdiff_t(sum_.size() * (block + 1) / blocks), ExactSum());
+    });
     nonFinite_ = 0;
   }
   // The sums times `scale`.

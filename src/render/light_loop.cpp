@@ -48,7 +48,7 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   Progress progress(o, iterations);
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
-    iteration.clear();
+    iteration.clear(threads);
     std::atomic<bool> cut{false};
     for (uint64_t first = 0; first < chunks && !cut; first += blockChunks) {
       const uint64_t count = std::min(blockChunks, chunks - first);
@@ -68,10 +68,10 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
         }
       });
       if (cut) break;
-      iteration.add(buffers);
+      iteration.add(buffers, threads);
     }
     if (cut) break;  // this iteration is dropped whole
-    total.add(iteration);
+    total.add(iteration, threads);
     ++done;
     progress.update(done, budget.elapsed());
     const bool last = done == iterations || budget.expired();
