@@ -101,14 +101,6 @@ class ExactSum {
       carry = s >> 64;
     }
   }
-  void subtract(const uint64_t* p) {
-    uint64_t borrow = 0;
-    for (int i = 0; i < kLimbs; ++i) {
-      unsigned __int128 d = (unsigned __int128)limb_[i] - p[i] - borrow;
-      limb_[i] = uint64_t(d);
-      borrow = uint64_t(d >> 64) & 1;
-    }
-  }
   uint64_t limb_[kLimbs] = {};
 };
 

@@ -62,18 +62,11 @@ class SplatFilm {
     for (const SplatBuffer& b : buffers) nonFinite_ += b.nonFinite();
   }
   void add(const SplatFilm& other, int threads = 1) {
-    const size_t blocks = 64;
-    parallelFor(blocks, threads, [&](size_t block, int) {
-      for (size_t i = sum_.size() * block / blocks, end = sum_.size() * (block + 1) / blocks; i < end; ++i)
-        sum_[i].add(other.sum_[i]);
-    });
+    forSums(threads, [&](size_t i) { sum_[i].add(other.sum_[i]); });
     nonFinite_ += other.nonFinite_;
   }
   void clear(int threads = 1) {
-    const size_t blocks = 64;
-    parallelFor(blocks, threads, [&](size_t block, int) {
-      std::fill(sum_.begin() + ptrdiff_t(sum_.size() * block / blocks), sum_.begin() + ptrdiff_t(sum_.size() * (block + 1) / blocks), ExactSum());
-    });
+    forSums(threads, [&](size_t i) { sum_[i] = ExactSum(); });
     nonFinite_ = 0;
   }
   // The sums times `scale`.
@@ -86,6 +79,15 @@ class SplatFilm {
   const std::vector<ExactSum>& sums() const { return sum_; }
 
  private:
+  // fn(i) for every sum, in 64 contiguous blocks over the threads.
+  template <typename Fn>
+  void forSums(int threads, Fn&& fn) {
+    const size_t blocks = 64, n = sum_.size();
+    parallelFor(blocks, threads, [&](size_t block, int) {
+      for (size_t i = n * block / blocks, end = n * (block + 1) / blocks; i < end; ++i) fn(i);
+    });
+  }
+
   int width_, height_;
   std::vector<ExactSum> sum_;
   uint64_t nonFinite_ = 0;
