@@ -22,10 +22,17 @@ are in OUT already.
 SmallVCM's -t counts process CPU seconds (clock()), so it gets -t 2·seconds for about `seconds`
 of wall time on 2 cores; the wall time each run took is measured here and reported.
 
+With --tail N it measures instead how often each method's single samples are fireflies: N
+renders of one iteration each per codebase (interleaved, seeds all distinct), and in each the
+pixels brighter than 50, 100, 200, 500 and 1000 (largest channel). One iteration's image is its
+samples, so a pixel above 50 where the image averages 0.5 is one sample of that size: the counts
+per 100 iterations compare the two estimators' tails directly, with no reference and none of the
+luck that a few 20 s renders leave to whether a rare large sample fell in them.
+
 Usage: python3 scripts/compare_smallvcm.py --smallvcm-src DIR [--seconds 20] [--reference-iterations 1024]
        [--reference-seconds 600]
-       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR]
-Prints a Markdown table (and writes it to OUT/table.md).
+       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR] [--tail N]
+Prints a Markdown table (and writes it to OUT/table.md, or OUT/tail.md).
 """
 import argparse
 import json
@@ -93,6 +100,56 @@ def run_smallvcm(binary, scene, method, seconds, output, seed=1234):
     return wall, "%s iterations" % (m.group(1) if m else "?")
 
 
+TAIL_THRESHOLDS = (50, 100, 200, 500, 1000)
+
+
+def count_above(path, thresholds=TAIL_THRESHOLDS):
+    """(pixels whose largest channel exceeds each threshold, the image's mean) of an EXR or HDR image."""
+    import numpy as np
+    import OpenImageIO as oiio
+    pixels = oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
+    if pixels is None or pixels.size == 0:
+        sys.exit("compare_smallvcm: %s: cannot read the image" % path)
+    largest = np.asarray(pixels)[..., :3].max(axis=-1)
+    return [int((largest > t).sum()) for t in thresholds], float(np.asarray(pixels)[..., :3].mean())
+
+
+def tail_table(counts, iterations, thresholds=TAIL_THRESHOLDS):
+    """Markdown rows: per (scene, code, method), samples above each threshold per 100 iterations,
+    with the Poisson standard error of the count (sqrt n)."""
+    rows = ["| scene | code | method | iterations | mean | " + " | ".join("> %g" % t for t in thresholds) + " |",
+            "|---|---|---|---|---|" + "---|" * len(thresholds)]
+    for (scene, code, method), (totals, mean) in counts.items():
+        cells = ["%.1f ± %.1f" % (100.0 * n / iterations, 100.0 * n ** 0.5 / iterations) for n in totals]
+        rows.append("| %s | %s | `%s` | %d | %.4f | %s |" % (scene, code, method, iterations, mean / iterations,
+                                                             " | ".join(cells)))
+    return "\n".join(rows) + "\n"
+
+
+def run_tail(a, binary, pairs):
+    """--tail N: N single-iteration renders per codebase and method, interleaved; firefly counts."""
+    counts = {}
+    for scene in a.scenes.split(","):
+        for ours, theirs in pairs:
+            for k in range(a.tail):
+                for code, method in (("photonlab", ours), ("SmallVCM", theirs)):
+                    if not method:
+                        continue
+                    if code == "photonlab":
+                        out = os.path.join(a.out, "tail-photonlab.exr")
+                        run_photonlab(a.photonlab, scene, method, 0, out, seed=10000 + k, spp=1)
+                    else:
+                        out = os.path.join(a.out, "tail-smallvcm.hdr")
+                        subprocess.run([binary, "-s", str(SCENES[scene]), "-a", method, "-i", "1", "-o", out], check=True,
+                                       capture_output=True, env=dict(os.environ, SMALLVCM_SEED=str(30000 + k)))
+                    above, mean = count_above(out)
+                    totals, means = counts.setdefault((scene, code, method), ([0] * len(above), 0.0))
+                    counts[(scene, code, method)] = ([x + y for x, y in zip(totals, above)], means + mean)
+    text = tail_table(counts, a.tail)
+    open(os.path.join(a.out, "tail.md"), "w").write(text)
+    print(text)
+
+
 def relmse(photonlab, image, reference):
     r = subprocess.run([photonlab, "compare", image, reference], check=True, capture_output=True, text=True)
     return json.loads(r.stdout.strip().splitlines()[-1])["relmse"]
@@ -109,10 +166,15 @@ def main():
     ap.add_argument("--methods", default="", help="photonlab:smallvcm pairs, e.g. bdpt:bpt,vcm:vcm (default: all)")
     ap.add_argument("--scenes", default="sun,point")
     ap.add_argument("--out", default="smallvcm-comparison")
+    ap.add_argument("--tail", type=int, default=0, metavar="N",
+                    help="count fireflies instead: N single-iteration renders per method (default methods bdpt:bpt)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     pairs = [tuple(p.split(":")) for p in a.methods.split(",")] if a.methods else PAIRS
     binary = build_smallvcm(a.smallvcm_src, a.out)
+    if a.tail > 0:
+        run_tail(a, binary, pairs if a.methods else [("bdpt", "bpt")])
+        return
     rows = []
     for scene in a.scenes.split(","):
         ours_ref = os.path.join(a.out, "ref-photonlab-%s.exr" % scene)

@@ -335,6 +335,29 @@ def test_compare_smallvcm_refuses_a_source_it_cannot_patch(tmp_path):
     assert r.returncode != 0 and "unrecognised src/smallvcm.cxx" in r.stderr
 
 
+def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulates_rates(tmp_path):
+    # --tail counts, in one-iteration images, the pixels whose largest channel exceeds each
+    # threshold; SmallVCM writes Radiance .hdr, photonlab EXR: both must read the same.
+    import compare_smallvcm as cs
+    img = np.full((24, 32, 3), 0.5, dtype=np.float32)
+    img[1, 2] = (60.0, 0.0, 0.0)        # above 50 only
+    img[3, 4] = (0.0, 0.0, 250.0)       # above 50, 100, 200
+    img[5, 6] = (1500.0, 1500.0, 1.0)   # above every threshold
+    for name in ("a.exr", "a.hdr"):
+        path = str(tmp_path / name)
+        out = oiio.ImageOutput.create(path)
+        out.open(path, oiio.ImageSpec(32, 24, 3, oiio.FLOAT))
+        out.write_image(img)
+        out.close()
+        above, mean = cs.count_above(path)
+        assert above == [3, 2, 2, 1, 1], name
+        assert mean == pytest.approx(float(img.mean()), rel=0.01), name  # RGBE keeps ~1% per value
+    # Rates per 100 iterations with the Poisson standard error sqrt(n): 4 in 200 -> 2.0 ± 1.0.
+    text = cs.tail_table({("point", "photonlab", "bdpt"): ([4, 1, 0, 0, 0], 100.0)}, 200)
+    row = text.strip().splitlines()[-1]
+    assert row.startswith("| point | photonlab | `bdpt` | 200 | 0.5000 | 2.0 ± 1.0 | 0.5 ± 0.5 | 0.0 ± 0.0 |")
+
+
 def test_radiosity_convergence_tabulates_every_budget_and_draws_the_figure(tmp_path):
     # Two small budgets on the Cornell box at 16 px: one table row each (patches growing with
     # the budget, both displays' errors), the figure written; a missing binary is one line.
