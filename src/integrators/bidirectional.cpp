@@ -75,6 +75,10 @@ struct VertexConnectionMerging::SubPath {
   bool specular = true;
   bool finiteLight = true;  // false after a directional light's or the sky's emission: no distance on its first edge
   float dVCM = 0, dVC = 0, dVM = 0;
+  // Camera subpaths: dVC without the merge at the vertex last scattered from. When the path's
+  // next vertex is on an emitter, that vertex is x₁, and without direct merges its merge is no
+  // technique of the path (addEmission).
+  float dVCNoMerge = 0;
   SampledWavelengths lambda;
 };
 
@@ -116,6 +120,11 @@ struct SplatSink {
 class VertexConnectionMerging::Tracer {
  public:
   Tracer(const Scene& scene, const BidirectionalOptions& o, const Iteration& it) : scene_(scene), o_(o), it_(it) {}
+
+  // Whether merging at the light vertex y_length (x_length of the path) is a technique: not at
+  // x₁ without direct merges. Mis(η) for it, or 0 (also without merging at all: misVm = 0).
+  bool mergesAt(int lightLength) const { return lightLength >= 2 || o_.directMerges; }
+  float misVmAt(int lightLength) const { return mergesAt(lightLength) ? it_.misVm : 0.0f; }
 
   // The weight of technique (s, t): its MIS weight, or under --only-s/--only-t 1 for that one
   // technique and 0 for the others.
@@ -180,7 +189,7 @@ class VertexConnectionMerging::Tracer {
         if (o_.connect) connectToCamera(v, path.lambda, splat);  // t = 1
       }
       if (path.length + 1 > o_.maxDepth) return;
-      if (!scatter(hit, wo, TransportMode::Importance, rng, path)) return;
+      if (!scatter(hit, wo, TransportMode::Importance, rng, path, mergesAt(path.length))) return;
       // Russian roulette from the 4th vertex, as the light tracer.
       if (path.length >= 3) {
         float q = std::min(1.0f, maxComponent(path.throughput));
@@ -228,7 +237,7 @@ class VertexConnectionMerging::Tracer {
     if (isBlack(f)) return;
     const float cameraPdfA = cameraAreaPdf(cs, std::abs(glm::dot(cs.wi, hit.ng)));
     const float revPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
-    const float wLight = Mis(cameraPdfA / it_.lightPaths) * (it_.misVm + v.dVCM + v.dVC * Mis(revPdf));
+    const float wLight = Mis(cameraPdfA / it_.lightPaths) * (misVmAt(v.length) + v.dVCM + v.dVC * Mis(revPdf));
     const int s = v.length + 1;
     const float w = weigh(s, 1, 1.0f / (wLight + 1.0f));
     if (w == 0 || !scene_.visible(hit, cs.wi, cs.distance)) return;
@@ -266,6 +275,7 @@ class VertexConnectionMerging::Tracer {
       path.dVCM *= Mis(hit.t * hit.t);
       path.dVCM /= Mis(cosIn);
       path.dVC /= Mis(cosIn);
+      path.dVCNoMerge /= Mis(cosIn);
       path.dVM /= Mis(cosIn);
 
       if (hit.light) emission(hit, wo, path, sink);  // s = 0, t = length + 1
@@ -283,7 +293,7 @@ class VertexConnectionMerging::Tracer {
         }
         if (o_.merge && grid) merge(hit, woLocal, path, *grid, sink);
       }
-      if (!scatter(hit, wo, TransportMode::Radiance, rng, path)) return;
+      if (!scatter(hit, wo, TransportMode::Radiance, rng, path, true)) return;
       // Russian roulette from the 4th vertex, as the path tracer.
       if (path.length >= 4) {
         float q = russianRouletteSurvival(path.beta, path.etaScale);
@@ -332,7 +342,7 @@ class VertexConnectionMerging::Tracer {
       mis = 1.0f;
     } else if (o_.connect) {
       const float directPdfA = pick * directPdf, emissionPdfW = pick * pdfPos * pdfDir;
-      mis = 1.0f / (1.0f + Mis(directPdfA) * path.dVCM + Mis(emissionPdfW) * path.dVC);
+      mis = 1.0f / (1.0f + Mis(directPdfA) * path.dVCM + Mis(emissionPdfW) * (o_.directMerges ? path.dVC : path.dVCNoMerge));
     } else {
       mis = path.specular ? 1.0f : 0.0f;
     }
@@ -371,7 +381,7 @@ class VertexConnectionMerging::Tracer {
     const float bsdfDirPdf = light.isDelta() ? 0.0f : hit.bsdf->pdf(woLocal, wiLocal, bc);
     const float bsdfRevPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
     const float wLight = Mis(bsdfDirPdf / (pick * ls.pdf));
-    const float wCamera = Mis(emissionRatio) * (it_.misVm + path.dVCM + path.dVC * Mis(bsdfRevPdf));
+    const float wCamera = Mis(emissionRatio) * (misVmAt(1) + path.dVCM + path.dVC * Mis(bsdfRevPdf));
     const int t = path.length + 1;
     const float w = weigh(1, t, 1.0f / (wLight + 1.0f + wCamera));
     if (w == 0 || !scene_.visible(hit, ls.wi, ls.distance)) return;
@@ -405,7 +415,7 @@ class VertexConnectionMerging::Tracer {
     const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);
     const float lightDirPdfA = v.hit.bsdf->pdf(lightWo, lightWi, lc) * cosCamera / dist2;
     const float lightRevPdf = v.hit.bsdf->pdf(lightWi, lightWo, lc);
-    const float wLight = Mis(cameraDirPdfA) * (it_.misVm + v.dVCM + v.dVC * Mis(lightRevPdf));
+    const float wLight = Mis(cameraDirPdfA) * (misVmAt(v.length) + v.dVCM + v.dVC * Mis(lightRevPdf));
     const float wCamera = Mis(lightDirPdfA) * (it_.misVm + path.dVCM + path.dVC * Mis(cameraRevPdf));
     const int s = v.length + 1, t = path.length + 1;
     float w = weigh(s, t, 1.0f / (wLight + 1.0f + wCamera));
@@ -428,6 +438,7 @@ class VertexConnectionMerging::Tracer {
     Spectrum sum(0.0f);
     grid.query(hit.p, [&](const MergeVertex& v) {
       if (v.length + path.length > o_.maxDepth + 1) return;
+      if (v.length == 1 && !o_.directMerges) return;  // x₁: not a technique (BidirectionalOptions)
       // From the other side of the surface only where the BSDF transmits.
       if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !transmits) return;
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
@@ -453,7 +464,8 @@ class VertexConnectionMerging::Tracer {
   // the reverse density of the edge just walked. A delta lobe has equal forward and reverse
   // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
   // measure.
-  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Rng& rng, SubPath& path) const {
+  // mergeHere: merging at this vertex is a technique (mergesAt).
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Rng& rng, SubPath& path, bool mergeHere) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
     const BSDFContext bc = bsdfContext(hit, path.lambda, mode);
@@ -467,12 +479,17 @@ class VertexConnectionMerging::Tracer {
     if (bs.delta) {
       path.dVCM = 0.0f;
       path.dVC *= Mis(cosOut);
+      path.dVCNoMerge = path.dVC;  // no merge at a delta vertex
       path.dVM *= Mis(cosOut);
     } else {
       if (!(bs.pdf > 0)) return false;
       const float revPdf = hit.bsdf->pdf(bs.wi, woLocal, bc);
-      path.dVC = Mis(cosOut / bs.pdf) * (path.dVC * Mis(revPdf) + path.dVCM + it_.misVm);
-      path.dVM = Mis(cosOut / bs.pdf) * (path.dVM * Mis(revPdf) + path.dVCM * it_.misVc + 1.0f);
+      // This vertex's own terms: dVCM for connecting here, and merging here (misVm in dVC's
+      // units, 1 in dVM's) where that is a technique.
+      const float dVCBefore = path.dVC * Mis(revPdf) + path.dVCM;
+      path.dVC = Mis(cosOut / bs.pdf) * (dVCBefore + (mergeHere ? it_.misVm : 0.0f));
+      path.dVCNoMerge = Mis(cosOut / bs.pdf) * dVCBefore;
+      path.dVM = Mis(cosOut / bs.pdf) * (path.dVM * Mis(revPdf) + path.dVCM * it_.misVc + (mergeHere ? 1.0f : 0.0f));
       path.dVCM = Mis(1.0f / bs.pdf);
     }
     Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), mode);
@@ -748,6 +765,16 @@ BidirectionalOptions common(const ParamSet& p) {
   return o;
 }
 
+// vcm: whether light vertices one edge from the light ("direct photons") are merged.
+ParamSpec directMerges() {
+  ParamSpec s{"direct_merges", ParamType::Choice,
+              "off: no merging at x1, the first vertex after the light (next-event estimation and light tracing carry that "
+              "light, unmerged); on: every merge, as Georgiev et al. 2012",
+              "on"};
+  s.choices = {"on", "off"};
+  return s;
+}
+
 ParamSpec strategyAov() {
   ParamSpec s{"aov", ParamType::Choice,
               "strategies: also write OUT.s<S>t<T>.ext, each technique's weighted share (they sum to the image)", "radiance"};
@@ -792,10 +819,11 @@ const IntegratorRegistration bpm({
 
 const IntegratorRegistration vcm({
     "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
-    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha()},
+    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha(), directMerges()},
     [](const ParamSet& p, const RenderOptions&) {
       BidirectionalOptions o = common(p);
       o.merge = true;
+      o.directMerges = p.choice("direct_merges") == "on";
       return std::make_unique<VertexConnectionMerging>(o, "vcm");
     },
     resolveMergeRadius});

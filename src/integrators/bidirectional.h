@@ -18,6 +18,10 @@ struct BidirectionalOptions {
   int maxDepth = 16;    // bounces: a path has at most maxDepth + 1 segments, as the path tracer's
   float radius = 0.0f;  // initial merge radius r₁ (m)
   float alpha = 0.75f;  // r_i = r₁ · i^((α−1)/2)
+  // Merging at x₁, the first vertex after the light (the light vertex y₁, a "direct photon"):
+  // with connections on, next-event estimation and light tracing already carry that light, so
+  // vcm may leave this merge out of its techniques (and out of every weight's denominator).
+  bool directMerges = true;
   // Debugging the estimator (bdpt): one image per technique (s, t), weighted (strategies); or
   // one technique alone, unweighted (onlyS, onlyT ≥ 0), which must converge to the paths of
   // length s + t − 1 on its own.
