@@ -438,7 +438,6 @@ class VertexConnectionMerging::Tracer {
     Spectrum sum(0.0f);
     grid.query(hit.p, [&](const MergeVertex& v) {
       if (v.length + path.length > o_.maxDepth + 1) return;
-      if (v.length == 1 && !o_.directMerges) return;  // x₁: not a technique (BidirectionalOptions)
       // From the other side of the surface only where the BSDF transmits.
       if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !transmits) return;
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
@@ -640,8 +639,10 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     // 2. The grid over every stored light vertex.
     if (o_.merge) {
       mergeVertices.clear();
+      // Without direct merges, y₁ is merged nowhere (BidirectionalOptions): left out of the grid.
       for (const std::vector<LightVertex>& chunk : chunkVertices)
-        for (const LightVertex& v : chunk) mergeVertices.push_back({v.hit.p, v.wo, v.beta, v.dVCM, v.dVM, v.length, v.heroOnly});
+        for (const LightVertex& v : chunk)
+          if (v.length >= 2 || o_.directMerges) mergeVertices.push_back({v.hit.p, v.wo, v.beta, v.dVCM, v.dVM, v.length, v.heroOnly});
       grid.build(mergeVertices, radius);
     }
 
@@ -770,7 +771,7 @@ ParamSpec directMerges() {
   ParamSpec s{"direct_merges", ParamType::Choice,
               "off: no merging at x1, the first vertex after the light (next-event estimation and light tracing carry that "
               "light, unmerged); on: every merge, as Georgiev et al. 2012",
-              "on"};
+              "off"};
   s.choices = {"on", "off"};
   return s;
 }
