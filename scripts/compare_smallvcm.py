@@ -78,11 +78,11 @@ def build_smallvcm(src, out):
     return binary
 
 
-def run_photonlab(photonlab, scene, method, seconds, output, seed=1, spp=0):
+def run_photonlab(photonlab, scene, method, seconds, output, seed=1, spp=0, extra=()):
     budget = ["--spp", str(spp)] if spp else ["--time", str(seconds)]
     args = [photonlab, "render", os.path.join(ROOT, "scenes", "smallvcm-%s.gltf" % scene), "--integrator", method,
             "--width", "512", "--threads", "2", "--seed", str(seed), "-o", output, "-q"] + budget
-    args += ["--max-depth", "9"]
+    args += ["--max-depth", "9"] + list(extra)
     start = time.monotonic()
     subprocess.run(args, check=True)
     wall = time.monotonic() - start
@@ -180,7 +180,10 @@ def main():
         ours_ref = os.path.join(a.out, "ref-photonlab-%s.exr" % scene)
         theirs_ref = os.path.join(a.out, "ref-smallvcm-%s.hdr" % scene)
         if not os.path.exists(ours_ref):
-            run_photonlab(a.photonlab, scene, "vcm", 0, ours_ref, seed=1000, spp=a.reference_iterations)
+            # One pixel footprint at 512² (vcm's default is three: the reference would blur
+            # its indirect light as much as vcm's own runs do).
+            run_photonlab(a.photonlab, scene, "vcm", 0, ours_ref, seed=1000, spp=a.reference_iterations,
+                          extra=["--radius", "0.00734"])
         if not os.path.exists(theirs_ref):
             run_smallvcm(binary, scene, "vcm", a.reference_seconds, theirs_ref)
         for ours, theirs in pairs:

@@ -554,7 +554,8 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   std::vector<MergeVertex> mergeVertices;
 
   // Without a radius (an integrator made outside the CLI's resolve step): the default.
-  const float radius1 = o_.radius > 0 ? o_.radius : (o_.merge ? defaultRadius(scene, W, H).footprint : 0.0f);
+  const float radius1 =
+      o_.radius > 0 ? o_.radius : (o_.merge ? mergeFootprints(!o_.connect, o_.directMerges) * defaultRadius(scene, W, H).footprint : 0.0f);
   int done = 0;
   float radius = radius1;
   uint64_t nonFinite = 0;
@@ -741,21 +742,22 @@ ParamSpec mergeAlpha() {
   return s;
 }
 
-ParamSpec mergeRadius() {
+ParamSpec mergeRadius(const char* defaultDoc) {
   ParamSpec s = params::progressiveRadius();
   s.doc = "initial merge radius r_1 in metres";
-  s.defaultDoc = "one pixel footprint at the median visible distance";
+  s.defaultDoc = defaultDoc;
   return s;
 }
 
-// The merge radius: one pixel's footprint at the median visible distance (a bias no larger than
-// the pixel, as SmallVCM's 0.3% of the scene radius is at 512² in its Cornell box).
+// The merge radius, in pixel footprints at the median visible distance (mergeFootprints).
 std::string resolveMergeRadius(const Scene& scene, int width, int height, ParamSet& params) {
   if (params.isSet("radius")) return "initial merge radius " + formatNumber(float(params.real("radius"))) + " m";
+  const bool directMerges = !params.has("direct_merges") || params.choice("direct_merges") == "on";
+  const float footprints = mergeFootprints(!params.has("direct_merges"), directMerges);
   DefaultRadius r = defaultRadius(scene, width, height);
-  params.resolve("radius", r.footprint);
-  return "initial merge radius " + formatNumber(r.footprint) + " m (default: one pixel footprint at the median visible distance " +
-         formatNumber(r.distance) + " m)";
+  params.resolve("radius", footprints * r.footprint);
+  return "initial merge radius " + formatNumber(footprints * r.footprint) + " m (default: " + formatNumber(footprints) +
+         " pixel footprint" + (footprints == 1 ? "" : "s") + " at the median visible distance " + formatNumber(r.distance) + " m)";
 }
 
 BidirectionalOptions common(const ParamSet& p) {
@@ -809,7 +811,7 @@ const IntegratorRegistration bdpt({
 
 const IntegratorRegistration bpm({
     "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
-    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha()},
+    {iterations(), params::maxDepth(), mergeRadius("one pixel footprint at the median visible distance"), mergeAlpha()},
     [](const ParamSet& p, const RenderOptions&) {
       BidirectionalOptions o = common(p);
       o.connect = false;
@@ -820,7 +822,9 @@ const IntegratorRegistration bpm({
 
 const IntegratorRegistration vcm({
     "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
-    {iterations(), params::maxDepth(), mergeRadius(), mergeAlpha(), directMerges()},
+    {iterations(), params::maxDepth(),
+     mergeRadius("three pixel footprints at the median visible distance (one with --direct-merges on)"), mergeAlpha(),
+     directMerges()},
     [](const ParamSet& p, const RenderOptions&) {
       BidirectionalOptions o = common(p);
       o.merge = true;
