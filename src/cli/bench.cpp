@@ -1,5 +1,6 @@
 // `photonlab bench`: the ceiling (bare Embree incoherent rays on the scene) and what the path
 // tracer achieves against it, single-threaded and on all cores.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -35,16 +36,19 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 //     directions (maximally incoherent), unbounded;
 //   occlusion (rtcOccluded1): segments between two random points inside the bounds, as shadow
 //     rays are (finite, towards a point); Embree stops at the first hit, so they cost less.
-//   closest hit in packets of 8 (rtcIntersect8) on the same rays: what a loop that traces eight
-//     paths' rays together would have as its ceiling.
+//   closest hit in packets of 8 and 16 (rtcIntersect8, rtcIntersect16) on the same rays, and
+//   occlusion in packets of 16 (rtcOccluded16) on the same segments: what a loop that traces
+//   eight or sixteen paths' rays together would have as its ceilings.
 struct EmbreeRates {
-  double closest = 0, occlusion = 0, packets8 = 0;  // rays per second
+  double closest = 0, occlusion = 0, packets8 = 0, packets16 = 0, occlusion16 = 0;  // rays per second
 };
 // The best of several measurements, rate by rate.
 void keepBestRates(EmbreeRates& best, const EmbreeRates& m) {
   best.closest = std::max(best.closest, m.closest);
   best.occlusion = std::max(best.occlusion, m.occlusion);
   best.packets8 = std::max(best.packets8, m.packets8);
+  best.packets16 = std::max(best.packets16, m.packets16);
+  best.occlusion16 = std::max(best.occlusion16, m.occlusion16);
 }
 
 EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
@@ -119,10 +123,44 @@ EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
     });
     return double(chunk * chunks) / seconds(t0);
   };
+  // Sixteen at a time: closest hit on the rays, or occlusion on the segments.
+  auto packet16Rate = [&](bool occlusion) {
+    auto t0 = std::chrono::steady_clock::now();
+    parallelFor(chunks, threads, [&](size_t, int) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      alignas(64) int valid[16];
+      std::fill(valid, valid + 16, -1);
+      uint64_t chunkHits = 0;
+      const std::vector<Ray>& source = occlusion ? segments : rays;
+      for (size_t i = 0; i + 16 <= source.size(); i += 16) {
+        RTCRayHit16 rh;
+        for (int k = 0; k < 16; ++k) {
+          const Ray& r = source[i + size_t(k)];
+          rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
+          rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
+          rh.ray.tnear[k] = 0, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0, rh.ray.mask[k] = 0xFFFFFFFFu;
+          rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        if (occlusion) {
+          rtcOccluded16(valid, scene.embreeScene(), &context, &rh.ray);
+          for (int k = 0; k < 16; ++k) chunkHits += rh.ray.tfar[k] < 0;
+        } else {
+          rtcIntersect16(valid, scene.embreeScene(), &context, &rh);
+          for (int k = 0; k < 16; ++k) chunkHits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        }
+      }
+      hits += chunkHits;
+    });
+    return double(chunk * chunks) / seconds(t0);
+  };
   EmbreeRates r;
   r.closest = rate(false);
   r.occlusion = rate(true);
   r.packets8 = packetRate();
+  r.packets16 = packet16Rate(false);
+  r.occlusion16 = packet16Rate(true);
   return r;
 }
 
@@ -275,6 +313,10 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
               embree[1].occlusion / 1e6);
   std::printf("| bare Embree incoherent rays in packets of 8, rtcIntersect8 (M rays/s) | %.2f | %.2f |\n",
               embree[0].packets8 / 1e6, embree[1].packets8 / 1e6);
+  std::printf("| bare Embree incoherent rays in packets of 16, rtcIntersect16 (M rays/s) | %.2f | %.2f |\n",
+              embree[0].packets16 / 1e6, embree[1].packets16 / 1e6);
+  std::printf("| bare Embree occlusion rays in packets of 16, rtcOccluded16 (M rays/s) | %.2f | %.2f |\n",
+              embree[0].occlusion16 / 1e6, embree[1].occlusion16 / 1e6);
   std::printf("| path tracer (k samples/s) | %.1f | %.1f |\n", path[0].samplesPerSecond / 1e3, path[1].samplesPerSecond / 1e3);
   std::printf("| path tracer (M rays/s, incl. shadow rays) | %.2f | %.2f |\n", path[0].raysPerSecond / 1e6,
               path[1].raysPerSecond / 1e6);
