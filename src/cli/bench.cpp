@@ -39,6 +39,20 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 //   closest hit in packets of 8 and 16 (rtcIntersect8, rtcIntersect16) on the same rays, and
 //   occlusion in packets of 16 (rtcOccluded16) on the same segments: what a loop that traces
 //   eight or sixteen paths' rays together would have as its ceilings.
+// A packet (RTCRayHit8, RTCRayHit16) of consecutive rays, every lane starting unhit.
+template <typename Packet>
+void fillPacket(Packet& rh, const Ray* rays) {
+  constexpr int lanes = int(sizeof(rh.ray.tfar) / sizeof(float));
+  for (int k = 0; k < lanes; ++k) {
+    const Ray& r = rays[k];
+    rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
+    rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
+    rh.ray.tnear[k] = 0, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0, rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+  }
+}
+
 struct EmbreeRates {
   double closest = 0, occlusion = 0, packets8 = 0, packets16 = 0, occlusion16 = 0;  // rays per second
 };
@@ -108,14 +122,7 @@ EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
       uint64_t chunkHits = 0;
       for (size_t i = 0; i + 8 <= rays.size(); i += 8) {
         RTCRayHit8 rh;
-        for (int k = 0; k < 8; ++k) {
-          const Ray& r = rays[i + size_t(k)];
-          rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
-          rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
-          rh.ray.tnear[k] = 0, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0, rh.ray.mask[k] = 0xFFFFFFFFu;
-          rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
-          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        fillPacket(rh, &rays[i]);
         rtcIntersect8(valid, scene.embreeScene(), &context, &rh);
         for (int k = 0; k < 8; ++k) chunkHits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
       }
@@ -135,14 +142,7 @@ EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
       const std::vector<Ray>& source = occlusion ? segments : rays;
       for (size_t i = 0; i + 16 <= source.size(); i += 16) {
         RTCRayHit16 rh;
-        for (int k = 0; k < 16; ++k) {
-          const Ray& r = source[i + size_t(k)];
-          rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
-          rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
-          rh.ray.tnear[k] = 0, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0, rh.ray.mask[k] = 0xFFFFFFFFu;
-          rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
-          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        fillPacket(rh, &source[i]);
         if (occlusion) {
           rtcOccluded16(valid, scene.embreeScene(), &context, &rh.ray);
           for (int k = 0; k < 16; ++k) chunkHits += rh.ray.tfar[k] < 0;

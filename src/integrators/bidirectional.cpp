@@ -121,10 +121,8 @@ class VertexConnectionMerging::Tracer {
  public:
   Tracer(const Scene& scene, const BidirectionalOptions& o, const Iteration& it) : scene_(scene), o_(o), it_(it) {}
 
-  // Whether merging at the light vertex y_length (x_length of the path) is a technique: not at
-  // x₁ without direct merges. Mis(η) for it, or 0 (also without merging at all: misVm = 0).
-  bool mergesAt(int lightLength) const { return lightLength >= 2 || o_.directMerges; }
-  float misVmAt(int lightLength) const { return mergesAt(lightLength) ? it_.misVm : 0.0f; }
+  // Mis(η) for merging at the light vertex y_length, or 0 where that is no technique.
+  float misVmAt(int lightLength) const { return o_.mergesAt(lightLength) ? it_.misVm : 0.0f; }
 
   // The weight of technique (s, t): its MIS weight, or under --only-s/--only-t 1 for that one
   // technique and 0 for the others.
@@ -189,7 +187,7 @@ class VertexConnectionMerging::Tracer {
         if (o_.connect) connectToCamera(v, path.lambda, splat);  // t = 1
       }
       if (path.length + 1 > o_.maxDepth) return;
-      if (!scatter(hit, wo, TransportMode::Importance, rng, path, mergesAt(path.length))) return;
+      if (!scatter(hit, wo, TransportMode::Importance, rng, path, o_.mergesAt(path.length))) return;
       // Russian roulette from the 4th vertex, as the light tracer.
       if (path.length >= 3) {
         float q = std::min(1.0f, maxComponent(path.throughput));
@@ -463,7 +461,7 @@ class VertexConnectionMerging::Tracer {
   // the reverse density of the edge just walked. A delta lobe has equal forward and reverse
   // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
   // measure.
-  // mergeHere: merging at this vertex is a technique (mergesAt).
+  // mergeHere: merging at this vertex is a technique (BidirectionalOptions::mergesAt).
   bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Rng& rng, SubPath& path, bool mergeHere) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
@@ -640,10 +638,10 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     // 2. The grid over every stored light vertex.
     if (o_.merge) {
       mergeVertices.clear();
-      // Without direct merges, y₁ is merged nowhere (BidirectionalOptions): left out of the grid.
+      // Vertices no merge uses (y₁ without direct merges) are left out of the grid.
       for (const std::vector<LightVertex>& chunk : chunkVertices)
         for (const LightVertex& v : chunk)
-          if (v.length >= 2 || o_.directMerges) mergeVertices.push_back({v.hit.p, v.wo, v.beta, v.dVCM, v.dVM, v.length, v.heroOnly});
+          if (o_.mergesAt(v.length)) mergeVertices.push_back({v.hit.p, v.wo, v.beta, v.dVCM, v.dVM, v.length, v.heroOnly});
       grid.build(mergeVertices, radius);
     }
 

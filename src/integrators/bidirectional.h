@@ -22,6 +22,8 @@ struct BidirectionalOptions {
   // with connections on, next-event estimation and light tracing already carry that light, so
   // vcm may leave this merge out of its techniques (and out of every weight's denominator).
   bool directMerges = true;
+  // Whether merging at the light vertex y_length (x_length of the path) is one of the techniques.
+  bool mergesAt(int lightLength) const { return merge && (lightLength >= 2 || directMerges); }
   // Debugging the estimator (bdpt): one image per technique (s, t), weighted (strategies); or
   // one technique alone, unweighted (onlyS, onlyT ≥ 0), which must converge to the paths of
   // length s + t − 1 on its own.
@@ -35,7 +37,7 @@ struct BidirectionalOptions {
 // 512² in its Cornell box). Three where they carry only indirect light (vcm's default), which is
 // smooth enough for a wider kernel: on SmallVCM's two scenes at 512², 20 s, relMSE falls from 1
 // to 3 footprints (0.0098 to 0.0068 under the point light, 0.0159 to 0.0068 under the sun) and
-// rises again from 4 (README, "Beside SmallVCM").
+// rises again from 4 (README, "Bidirectional methods", Radius).
 inline float mergeFootprints(bool mergeOnly, bool directMerges) { return mergeOnly || directMerges ? 1.0f : 3.0f; }
 
 class VertexConnectionMerging final : public Integrator {
