@@ -4,6 +4,7 @@
 #include "integrators/guided.h"
 
 #include <cmath>
+#include <limits>
 
 #include "core/memory.h"
 #include "core/parallel.h"
@@ -355,12 +356,19 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   // image of the same pixels, so the inverse-variance combination stays unbiased; the probe's
   // samples count in the image like any iteration's. The guided iteration's t includes its
   // recording, which the last iteration would not do (~5%), so close calls go to path tracing.
+  // Preparing the guide (a fresh photon map for the photon guide, a tree refit for the SD-tree)
+  // is not a cost per sample: the last iteration pays it once, out of the time left T, and
+  // samples in T − P. For equal variance of the remaining image, guided wins when
+  // σ_g²·t_g·T/(T − P) < σ_p²·t_p, t_g its seconds per sample without P, P the last guided
+  // iteration's preparation (at the small budgets where the schedule reaches its last iteration
+  // after a few samples, P dominated t_g and sent every photon-guided render to path tracing).
   // With a sample count (no time budget) the schedule is kept: samples, not time, are the budget.
   const PathIntegrator pathTracer(options_.maxDepth);
   const bool autoFallback = options_.fallback == "auto" && fixed.empty();
   const bool alwaysFallback = options_.fallback == "always";
   bool probed = false, unguidedWins = false;
   double guidedCost = 0, unguidedCost = 0;  // σ²·t of the last guided iteration and of the probe
+  double guidedRelative = 0, guidedSeconds = 0, prepareSeconds = 0;  // its σ², t_g and P
   int guidedIterations = 0, guidedSamples = 0;
   for (int k = 0; !budget.expired(); ++k) {
     int samples;
@@ -389,10 +397,12 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
       }
     }
     const double started = budget.elapsed();
+    double prepared = started;
     if (!unguided) {
       guide->prepare(scene, guidedIterations++, samples, last, o.seed, threads, budget);
       if (budget.expired()) break;
       guideSize = guide->describe();
+      prepared = budget.elapsed();
     }
     const bool record = !unguided && guide->learns() && !last;
     current = std::make_unique<IterationSums>(pixels);
@@ -440,10 +450,16 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
     secondsPerSample = (budget.elapsed() - started) / std::max(1, samples);
     if (probe) {
       unguidedCost = relative * secondsPerSample;
+      const double left = o.timeLimit - budget.elapsed();
+      guidedCost = left > prepareSeconds ? guidedRelative * guidedSeconds * left / (left - prepareSeconds)
+                                         : std::numeric_limits<double>::infinity();
       unguidedWins = unguidedCost < guidedCost;
       probed = true;
     } else if (!unguided && !last) {
-      guidedCost = relative * secondsPerSample;
+      guidedRelative = relative;
+      guidedSeconds = (budget.elapsed() - prepared) / std::max(1, samples);
+      prepareSeconds = prepared - started;
+      guidedCost = relative * guidedSeconds;  // reported as measured, without P, if no probe follows
       guidedSamples = samples;
     }
     if (last) {
@@ -459,7 +475,8 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
             "variance of one sample, iteration by iteration: " + sigma};
   if (probed)
     notes_.push_back("unguided fallback: variance x seconds per sample " + formatNumber(float(unguidedCost)) +
-                     " path-traced against " + formatNumber(float(guidedCost)) + " guided: the last iteration " +
+                     " path-traced against " + formatNumber(float(guidedCost)) + " guided (its preparation, " +
+                     formatNumber(float(prepareSeconds)) + " s, paid once from the time left): the last iteration " +
                      (unguidedWins ? "path-traced" : "guided"));
   if (stats) *stats = infoAt(true);
   return estimate();
