@@ -31,13 +31,14 @@ luck that a few 20 s renders leave to whether a rare large sample fell in them.
 
 Usage: python3 scripts/compare_smallvcm.py --smallvcm-src DIR [--seconds 20] [--reference-iterations 1024]
        [--reference-seconds 600]
-       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR] [--tail N]
+       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR] [--tail N] [--photonlab-args "--heuristic balance"]
 Prints a Markdown table (and writes it to OUT/table.md, or OUT/tail.md).
 """
 import argparse
 import json
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -137,7 +138,8 @@ def run_tail(a, binary, pairs):
                         continue
                     if code == "photonlab":
                         out = os.path.join(a.out, "tail-photonlab.exr")
-                        run_photonlab(a.photonlab, scene, method, 0, out, seed=10000 + k, spp=1)
+                        run_photonlab(a.photonlab, scene, method, 0, out, seed=10000 + k, spp=1,
+                                      extra=shlex.split(a.photonlab_args))
                     else:
                         out = os.path.join(a.out, "tail-smallvcm.hdr")
                         subprocess.run([binary, "-s", str(SCENES[scene]), "-a", method, "-i", "1", "-o", out], check=True,
@@ -165,6 +167,8 @@ def main():
     ap.add_argument("--repeats", type=int, default=1, help="runs of each method (relMSE averaged)")
     ap.add_argument("--methods", default="", help="photonlab:smallvcm pairs, e.g. bdpt:bpt,vcm:vcm (default: all)")
     ap.add_argument("--scenes", default="sun,point")
+    ap.add_argument("--photonlab-args", default="", metavar="ARGS",
+                    help="more options for every photonlab run but the reference, e.g. \"--heuristic balance\"")
     ap.add_argument("--out", default="smallvcm-comparison")
     ap.add_argument("--tail", type=int, default=0, metavar="N",
                     help="count fireflies instead: N single-iteration renders per method (default methods bdpt:bpt)")
@@ -191,7 +195,8 @@ def main():
             for k in range(a.repeats):
                 if ours:
                     out = os.path.join(a.out, "photonlab-%s-%s-%d.exr" % (scene, ours, k))
-                    wall, work = run_photonlab(a.photonlab, scene, ours, a.seconds, out, seed=k + 1)
+                    wall, work = run_photonlab(a.photonlab, scene, ours, a.seconds, out, seed=k + 1,
+                                               extra=shlex.split(a.photonlab_args))
                     results.setdefault(("photonlab", ours), []).append((wall, work, relmse(a.photonlab, out, ours_ref)))
                 if theirs:
                     out = os.path.join(a.out, "smallvcm-%s-%s-%d.hdr" % (scene, theirs, k))

@@ -53,12 +53,14 @@ TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 
   // [0.7, 1.4] (768 values: its standard error ~5%). Merging's bias is zero here: the radiance
   // is the same everywhere.
   auto scene = sceneFile("furnace");
-  for (const char* name : kBidirectional) {
-    INFO(name);
-    ImageRGB a = renderWith(*scene, name, 16, 16, 64, 1, {{"max_depth", 64}, {"radius", 0.05}});
-    ImageRGB b = renderWith(*scene, name, 16, 16, 64, 2, {{"max_depth", 64}, {"radius", 0.05}});
-    checkFurnace(a, b);
-  }
+  for (const char* heuristic : {"power", "balance"})
+    for (const char* name : kBidirectional) {
+      INFO(name << ", " << heuristic << " heuristic");
+      const std::map<std::string, std::string> choices{{"heuristic", heuristic}};
+      ImageRGB a = renderWith(*scene, name, 16, 16, 64, 1, {{"max_depth", 64}, {"radius", 0.05}}, 0, false, nullptr, choices);
+      ImageRGB b = renderWith(*scene, name, 16, 16, 64, 2, {{"max_depth", 64}, {"radius", 0.05}}, 0, false, nullptr, choices);
+      checkFurnace(a, b);
+    }
   // Spectral: white light, so the luminance is 2. With merging, every path of an iteration
   // shares its three wavelengths (a merge joins paths of different pixels; the iterations' sets
   // are stratified), so the image mean's noise is that of its iterations' wavelength samples,
@@ -89,13 +91,15 @@ TEST_CASE("bidirectional: the mirror caustic of a point light per pixel - E = I/
   // scene_helpers' MirrorCaustic: the mirror-image term is reachable only from the light side:
   // light tracing (t = 1) in bdpt, merging too in vcm and bpm. 512 iterations; merge radius
   // 2 cm, about two pixels' footprint, where the closed form's curvature biases a disc average
-  // by ~0.1%. Acceptance as the light tracer's test (checkMirrorCaustic).
-  for (const char* name : kBidirectional) {
-    INFO(name);
-    checkMirrorCaustic([&](const Scene& scene, int W, uint64_t seed) {
-      return renderWith(scene, name, W, W, 512, seed, {{"radius", 0.02}});
-    });
-  }
+  // by ~0.1%. Acceptance as the light tracer's test (checkMirrorCaustic). With either MIS
+  // heuristic: the weights must sum to 1 over the techniques for β = 1 as for β = 2.
+  for (const char* heuristic : {"power", "balance"})
+    for (const char* name : kBidirectional) {
+      INFO(name << ", " << heuristic << " heuristic");
+      checkMirrorCaustic([&](const Scene& scene, int W, uint64_t seed) {
+        return renderWith(scene, name, W, W, 512, seed, {{"radius", 0.02}}, 0, false, nullptr, {{"heuristic", heuristic}});
+      });
+    }
 }
 
 TEST_CASE("bdpt: the weighted techniques' images sum to the image - and asking for them changes nothing") {
@@ -274,7 +278,8 @@ TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glos
   // small room: a modified-Phong floor (SmallVCM's: kd 0.1, ks 0.7, n = 90), a rough GGX metal
   // back wall (α = 0.3), a metallic-roughness left wall, lit by an area light under the ceiling, which
   // every technique can reach. 32×32 pixels, regions of 8×8, seeds 1 and 2, 256 samples or
-  // iterations: every |z| < 4, mean z² < 3, means within 1.5%.
+  // iterations: every |z| < 4, mean z² < 3, means within 1.5%. Both heuristics: the balance
+  // heuristic weighs the same ratios to the first power, so a wrong density shows there too.
   Scene scene;
   uint32_t floor = scene.addMaterial({"phong", std::make_unique<Phong>(Spectrum(0.1f), Spectrum(0.7f), 90.0f), Spectrum(0), false});
   uint32_t metal = scene.addMaterial({"ggx", std::make_unique<GGXConductor>(ColorTexture(Spectrum(0.9f, 0.6f, 0.3f)), 0.3f),
@@ -299,10 +304,11 @@ TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glos
   const int W = 32;
   ImageRGB p1 = renderWith(scene, "path", W, W, 256, 1), p2 = renderWith(scene, "path", W, W, 256, 2);
   REQUIRE(meanOf(p1) > 0.01);
+  for (const char* heuristic : {"power", "balance"})
   for (const char* name : {"bdpt", "vcm"}) {
-    INFO(name);
-    ImageRGB a1 = renderWith(scene, name, W, W, 256, 1, {{"radius", 0.005}});
-    ImageRGB a2 = renderWith(scene, name, W, W, 256, 2, {{"radius", 0.005}});
+    INFO(name << ", " << heuristic << " heuristic");
+    ImageRGB a1 = renderWith(scene, name, W, W, 256, 1, {{"radius", 0.005}}, 0, false, nullptr, {{"heuristic", heuristic}});
+    ImageRGB a2 = renderWith(scene, name, W, W, 256, 2, {{"radius", 0.005}}, 0, false, nullptr, {{"heuristic", heuristic}});
     RegionAgreement r = regions(a1, a2, p1, p2, 8);
     INFO("worst |z| " << r.worst << ", mean z² " << r.meanZ2 << "; means " << meanOf(a1) << " vs " << meanOf(p1));
     CHECK(r.worst < 4.0);

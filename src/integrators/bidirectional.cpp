@@ -12,7 +12,7 @@
 // photon-map density estimate, unbiased only as r → 0.
 //
 // MIS. Each technique's weight is the power heuristic w_i = p_i² / Σ_j p_j² over all techniques
-// that could make the same path. Instead of re-walking the path for every p_j (O(n²)), each
+// that could make the same path (--heuristic balance: w_i = p_i / Σ_j p_j). Instead of re-walking the path for every p_j (O(n²)), each
 // subpath carries three running sums of pdf ratios (Georgiev 2012, "Implementing VCM", eqs.
 // 31–36), updated once per vertex:
 //   dVCM  the ratio for the technique that ends the subpath here (connect or merge at it),
@@ -45,8 +45,9 @@
 namespace pl {
 
 namespace {
-// The power heuristic's exponent β = 2 (Veach 1997 §9.2.4), applied to every pdf ratio.
-inline float Mis(float ratio) { return ratio * ratio; }
+// The heuristic's ratio term, ratio^β: β = 2 the power heuristic (Veach 1997 §9.2.4, the
+// default), β = 1 the balance heuristic. Every weight is 1/(Σ ratio^β) over the techniques.
+inline float misTerm(float ratio, bool balance) { return balance ? ratio : ratio * ratio; }
 // A dispersive refraction scales the hero wavelength by the number of wavelengths (3) and zeroes
 // the others; a path whose two halves both did so must count that scale once.
 constexpr float kWavelengths = 3.0f;
@@ -120,6 +121,8 @@ struct SplatSink {
 class VertexConnectionMerging::Tracer {
  public:
   Tracer(const Scene& scene, const BidirectionalOptions& o, const Iteration& it) : scene_(scene), o_(o), it_(it) {}
+
+  float Mis(float ratio) const { return misTerm(ratio, o_.balanceHeuristic); }
 
   // Mis(η) for merging at the light vertex y_length, or 0 where that is no technique.
   float misVmAt(int lightLength) const { return o_.mergesAt(lightLength) ? it_.misVm : 0.0f; }
@@ -596,8 +599,8 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     radius = std::max(1e-7f, radius1 * std::pow(float(iteration + 1), 0.5f * (o_.alpha - 1.0f)));
     it.radius = radius;
     const float eta = it.lightPaths * kPi * radius * radius;
-    it.misVm = o_.merge ? Mis(eta) : 0.0f;
-    it.misVc = o_.connect ? Mis(1.0f / eta) : 0.0f;
+    it.misVm = o_.merge ? misTerm(eta, o_.balanceHeuristic) : 0.0f;
+    it.misVc = o_.connect ? misTerm(1.0f / eta, o_.balanceHeuristic) : 0.0f;
     it.vmNormalization = 1.0f / eta;
     Tracer tracer(scene, o_, it);
     // Wavelengths: a merge joins paths of different pixels, so with merging the whole
@@ -763,7 +766,15 @@ BidirectionalOptions common(const ParamSet& p) {
   o.maxDepth = int(p.integer("max_depth"));
   if (p.has("radius")) o.radius = float(p.real("radius"));
   if (p.has("alpha")) o.alpha = float(p.real("alpha"));
+  o.balanceHeuristic = p.choice("heuristic") == "balance";
   return o;
+}
+
+ParamSpec heuristic() {
+  ParamSpec s{"heuristic", ParamType::Choice,
+              "the MIS weights: power (beta = 2, Veach 1997) or balance (beta = 1, as SmallVCM and pbrt-v3's bdpt)", "power"};
+  s.choices = {"power", "balance"};
+  return s;
 }
 
 // vcm: whether light vertices one edge from the light ("direct photons") are merged.
@@ -791,8 +802,8 @@ ParamSpec onlyStrategy(const char* name, const char* doc) {
 }
 
 const IntegratorRegistration bdpt({
-    "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power-heuristic MIS",
-    {iterations(), params::maxDepth(), strategyAov(),
+    "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power- or balance-heuristic MIS",
+    {iterations(), params::maxDepth(), heuristic(), strategyAov(),
      onlyStrategy("only_s", "debug: render technique (s, t) alone, unweighted: its light vertices s (with only_t)"),
      onlyStrategy("only_t", "debug: its camera vertices t, the pinhole included (with only_s)")},
     [](const ParamSet& p, const RenderOptions&) {
@@ -809,7 +820,8 @@ const IntegratorRegistration bdpt({
 
 const IntegratorRegistration bpm({
     "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
-    {iterations(), params::maxDepth(), mergeRadius("one pixel footprint at the median visible distance"), mergeAlpha()},
+    {iterations(), params::maxDepth(), heuristic(), mergeRadius("one pixel footprint at the median visible distance"),
+     mergeAlpha()},
     [](const ParamSet& p, const RenderOptions&) {
       BidirectionalOptions o = common(p);
       o.connect = false;
@@ -820,7 +832,7 @@ const IntegratorRegistration bpm({
 
 const IntegratorRegistration vcm({
     "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
-    {iterations(), params::maxDepth(),
+    {iterations(), params::maxDepth(), heuristic(),
      mergeRadius("three pixel footprints at the median visible distance (one with --direct-merges on)"), mergeAlpha(),
      directMerges()},
     [](const ParamSet& p, const RenderOptions&) {

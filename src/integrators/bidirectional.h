@@ -22,6 +22,9 @@ struct BidirectionalOptions {
   // with connections on, next-event estimation and light tracing already carry that light, so
   // vcm may leave this merge out of its techniques (and out of every weight's denominator).
   bool directMerges = true;
+  // The MIS heuristic for every pdf ratio: the power heuristic, β = 2 (Veach 1997 §9.2.4), or
+  // the balance heuristic, β = 1 (SmallVCM's default, and pbrt-v3's bdpt).
+  bool balanceHeuristic = false;
   // Whether merging at the light vertex y_length (x_length of the path) is one of the techniques.
   bool mergesAt(int lightLength) const { return merge && (lightLength >= 2 || directMerges); }
   // Debugging the estimator (bdpt): one image per technique (s, t), weighted (strategies); or
