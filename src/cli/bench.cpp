@@ -53,6 +53,20 @@ void fillPacket(Packet& rh, const Ray* rays) {
   }
 }
 
+// Embree's packet calls, by packet width.
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit8& rh) {
+  rtcIntersect8(valid, scene, context, &rh);
+}
+void intersectPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16& rh) {
+  rtcIntersect16(valid, scene, context, &rh);
+}
+void occludedPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit8& rh) {
+  rtcOccluded8(valid, scene, context, &rh.ray);
+}
+void occludedPacket(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16& rh) {
+  rtcOccluded16(valid, scene, context, &rh.ray);
+}
+
 struct EmbreeRates {
   double closest = 0, occlusion = 0, packets8 = 0, packets16 = 0, occlusion16 = 0;  // rays per second
 };
@@ -113,42 +127,28 @@ EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
     });
     return double(chunk * chunks) / seconds(t0);
   };
-  auto packetRate = [&] {
+  // Packets of 8 or 16 (the packet type's width): closest hit on the rays, or occlusion on the
+  // segments.
+  auto packetRate = [&](auto packet, bool occlusion) {
+    using Packet = decltype(packet);
+    constexpr int lanes = int(sizeof(packet.ray.tfar) / sizeof(float));
     auto t0 = std::chrono::steady_clock::now();
     parallelFor(chunks, threads, [&](size_t, int) {
       RTCIntersectContext context;
       rtcInitIntersectContext(&context);
-      alignas(32) int valid[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
-      uint64_t chunkHits = 0;
-      for (size_t i = 0; i + 8 <= rays.size(); i += 8) {
-        RTCRayHit8 rh;
-        fillPacket(rh, &rays[i]);
-        rtcIntersect8(valid, scene.embreeScene(), &context, &rh);
-        for (int k = 0; k < 8; ++k) chunkHits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-      }
-      hits += chunkHits;
-    });
-    return double(chunk * chunks) / seconds(t0);
-  };
-  // Sixteen at a time: closest hit on the rays, or occlusion on the segments.
-  auto packet16Rate = [&](bool occlusion) {
-    auto t0 = std::chrono::steady_clock::now();
-    parallelFor(chunks, threads, [&](size_t, int) {
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
-      alignas(64) int valid[16];
-      std::fill(valid, valid + 16, -1);
+      alignas(64) int valid[lanes];
+      std::fill(valid, valid + lanes, -1);
       uint64_t chunkHits = 0;
       const std::vector<Ray>& source = occlusion ? segments : rays;
-      for (size_t i = 0; i + 16 <= source.size(); i += 16) {
-        RTCRayHit16 rh;
+      for (size_t i = 0; i + lanes <= source.size(); i += lanes) {
+        Packet rh;
         fillPacket(rh, &source[i]);
         if (occlusion) {
-          rtcOccluded16(valid, scene.embreeScene(), &context, &rh.ray);
-          for (int k = 0; k < 16; ++k) chunkHits += rh.ray.tfar[k] < 0;
+          occludedPacket(valid, scene.embreeScene(), &context, rh);
+          for (int k = 0; k < lanes; ++k) chunkHits += rh.ray.tfar[k] < 0;
         } else {
-          rtcIntersect16(valid, scene.embreeScene(), &context, &rh);
-          for (int k = 0; k < 16; ++k) chunkHits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+          intersectPacket(valid, scene.embreeScene(), &context, rh);
+          for (int k = 0; k < lanes; ++k) chunkHits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
         }
       }
       hits += chunkHits;
@@ -158,9 +158,9 @@ EmbreeRates embreeRaysPerSecond(const Scene& scene, int threads) {
   EmbreeRates r;
   r.closest = rate(false);
   r.occlusion = rate(true);
-  r.packets8 = packetRate();
-  r.packets16 = packet16Rate(false);
-  r.occlusion16 = packet16Rate(true);
+  r.packets8 = packetRate(RTCRayHit8{}, false);
+  r.packets16 = packetRate(RTCRayHit16{}, false);
+  r.occlusion16 = packetRate(RTCRayHit16{}, true);
   return r;
 }
 

@@ -12,9 +12,9 @@
 // photon-map density estimate, unbiased only as r → 0.
 //
 // MIS. Each technique's weight is the power heuristic w_i = p_i² / Σ_j p_j² over all techniques
-// that could make the same path (--heuristic balance: w_i = p_i / Σ_j p_j). Instead of re-walking the path for every p_j (O(n²)), each
-// subpath carries three running sums of pdf ratios (Georgiev 2012, "Implementing VCM", eqs.
-// 31–36), updated once per vertex:
+// that could make the same path (--heuristic balance: w_i = p_i / Σ_j p_j). Instead of
+// re-walking the path for every p_j (O(n²)), each subpath carries three running sums of pdf
+// ratios (Georgiev 2012, "Implementing VCM", eqs. 31–36), updated once per vertex:
 //   dVCM  the ratio for the technique that ends the subpath here (connect or merge at it),
 //   dVC   the sum for every connection further back along the subpath,
 //   dVM   the sum for every merge further back,
@@ -556,7 +556,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
 
   // Without a radius (an integrator made outside the CLI's resolve step): the default.
   const float radius1 =
-      o_.radius > 0 ? o_.radius : (o_.merge ? mergeFootprints(!o_.connect, o_.directMerges) * defaultRadius(scene, W, H).footprint : 0.0f);
+      o_.radius > 0 ? o_.radius : (o_.merge ? mergeFootprints(o_.directMerges) * defaultRadius(scene, W, H).footprint : 0.0f);
   int done = 0;
   float radius = radius1;
   uint64_t nonFinite = 0;
@@ -753,8 +753,9 @@ ParamSpec mergeRadius(const char* defaultDoc) {
 // The merge radius, in pixel footprints at the median visible distance (mergeFootprints).
 std::string resolveMergeRadius(const Scene& scene, int width, int height, ParamSet& params) {
   if (params.isSet("radius")) return "initial merge radius " + formatNumber(float(params.real("radius"))) + " m";
+  // bpm declares no direct_merges: it merges at every vertex, x₁ included.
   const bool directMerges = !params.has("direct_merges") || params.choice("direct_merges") == "on";
-  const float footprints = mergeFootprints(!params.has("direct_merges"), directMerges);
+  const float footprints = mergeFootprints(directMerges);
   DefaultRadius r = defaultRadius(scene, width, height);
   params.resolve("radius", footprints * r.footprint);
   return "initial merge radius " + formatNumber(footprints * r.footprint) + " m (default: " + formatNumber(footprints) +
@@ -771,27 +772,22 @@ BidirectionalOptions common(const ParamSet& p) {
 }
 
 ParamSpec heuristic() {
-  ParamSpec s{"heuristic", ParamType::Choice,
-              "the MIS weights: power (beta = 2, Veach 1997) or balance (beta = 1, as SmallVCM and pbrt-v3's bdpt)", "power"};
-  s.choices = {"power", "balance"};
-  return s;
+  return params::choice("heuristic",
+                        "the MIS weights: power (beta = 2, Veach 1997) or balance (beta = 1, as SmallVCM and pbrt-v3's bdpt)",
+                        "power", {"power", "balance"});
 }
 
 // vcm: whether light vertices one edge from the light ("direct photons") are merged.
 ParamSpec directMerges() {
-  ParamSpec s{"direct_merges", ParamType::Choice,
-              "off: no merging at x1, the first vertex after the light (next-event estimation and light tracing carry that "
-              "light, unmerged); on: every merge, as Georgiev et al. 2012",
-              "off"};
-  s.choices = {"on", "off"};
-  return s;
+  return params::choice("direct_merges",
+                        "off: no merging at x1, the first vertex after the light (next-event estimation and light tracing "
+                        "carry that light, unmerged); on: every merge, as Georgiev et al. 2012",
+                        "off", {"on", "off"});
 }
 
 ParamSpec strategyAov() {
-  ParamSpec s{"aov", ParamType::Choice,
-              "strategies: also write OUT.s<S>t<T>.ext, each technique's weighted share (they sum to the image)", "radiance"};
-  s.choices = {"radiance", "strategies"};
-  return s;
+  return params::choice("aov", "strategies: also write OUT.s<S>t<T>.ext, each technique's weighted share (they sum to the image)",
+                        "radiance", {"radiance", "strategies"});
 }
 
 ParamSpec onlyStrategy(const char* name, const char* doc) {

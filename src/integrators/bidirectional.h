@@ -35,13 +35,14 @@ struct BidirectionalOptions {
 };
 
 // The default initial merge radius r₁, in pixel footprints at the median visible distance.
-// One where merges carry direct light (bpm; vcm with direct merges): its blur is then the
-// image's, and one pixel keeps it below the pixel (as SmallVCM's 0.3% of the scene radius is at
-// 512² in its Cornell box). Three where they carry only indirect light (vcm's default), which is
-// smooth enough for a wider kernel: on SmallVCM's two scenes at 512², 20 s, relMSE falls from 1
-// to 3 footprints (0.0098 to 0.0068 under the point light, 0.0159 to 0.0068 under the sun) and
-// rises again from 4 (README, "Bidirectional methods", Radius).
-inline float mergeFootprints(bool mergeOnly, bool directMerges) { return mergeOnly || directMerges ? 1.0f : 3.0f; }
+// One where merges carry direct light (bpm, which merges at every vertex, and vcm with direct
+// merges): its blur is then the image's, and one pixel keeps it below the pixel (as SmallVCM's
+// 0.3% of the scene radius is at 512² in its Cornell box). Three where they carry only indirect
+// light (vcm's default), which is smooth enough for a wider kernel: on SmallVCM's two scenes at
+// 512², 20 s, relMSE falls from 1 to 3 footprints (0.0098 to 0.0068 under the point light,
+// 0.0159 to 0.0068 under the sun) and rises again from 4 (README, "Bidirectional methods",
+// Radius).
+inline float mergeFootprints(bool directMerges) { return directMerges ? 1.0f : 3.0f; }
 
 class VertexConnectionMerging final : public Integrator {
  public:

@@ -487,14 +487,13 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
 namespace {
 
 std::vector<ParamSpec> guidedParams() {
-  ParamSpec guide{"guide", ParamType::Choice,
-                  "what the guide learns from: the render's own paths (SD-tree) or photons' incident directions", "sdtree"};
-  guide.choices = {"sdtree", "photons"};
+  ParamSpec guide = params::choice(
+      "guide", "what the guide learns from: the render's own paths (SD-tree) or photons' incident directions", "sdtree",
+      {"sdtree", "photons"});
   ParamSpec fraction{"bsdf_fraction", ParamType::Real, "probability of sampling the BSDF instead of the guide", "0.5"};
   fraction.lo = 0, fraction.hi = 1, fraction.openLow = true;
-  ParamSpec combine{"combine", ParamType::Choice, "how iterations make the image: weighted by inverse variance, or the last alone",
-                    "inverse-variance"};
-  combine.choices = {"inverse-variance", "last"};
+  ParamSpec combine = params::choice("combine", "how iterations make the image: weighted by inverse variance, or the last alone",
+                                     "inverse-variance", {"inverse-variance", "last"});
   ParamSpec spatial{"spatial_threshold", ParamType::Real,
                     "sdtree: c, a spatial leaf splits past c·√spp records in one iteration (Müller et al.: 12000)", "12000"};
   spatial.lo = 1, spatial.hi = 1e12;
@@ -503,11 +502,11 @@ std::vector<ParamSpec> guidedParams() {
   photons.lo = 1, photons.hi = 4294967295.0;
   ParamSpec k{"k", ParamType::Integer, "photons: the nearest photons each cached distribution is built from", "256"};
   k.lo = 8, k.hi = 100000;
-  ParamSpec fallback{"fallback", ParamType::Choice,
-                     "the last iteration path-traces: auto (with a time budget alone) when a short unguided iteration shows "
-                     "path tracing more efficient, variance x time per sample, than the guide; off: never; always",
-                     "auto"};
-  fallback.choices = {"auto", "off", "always"};
+  ParamSpec fallback = params::choice(
+      "fallback",
+      "the last iteration path-traces: auto (with a time budget alone) when a short unguided iteration shows path tracing "
+      "more efficient, variance x time per sample, than the guide; off: never; always",
+      "auto", {"auto", "off", "always"});
   return {params::spp(), params::maxDepth(), guide, fraction, combine, fallback, spatial, photons, k};
 }
 

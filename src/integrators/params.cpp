@@ -104,6 +104,12 @@ std::string ParamSet::format(const ParamSpec& s) const {
 
 namespace params {
 
+ParamSpec choice(std::string name, std::string doc, std::string defaultValue, std::vector<std::string> choices) {
+  ParamSpec s{std::move(name), ParamType::Choice, std::move(doc), std::move(defaultValue)};
+  s.choices = std::move(choices);
+  return s;
+}
+
 ParamSpec maxDepth() {
   ParamSpec s{"max_depth", ParamType::Integer, "maximum number of bounces (path segments after the camera ray)", "64"};
   s.lo = 0, s.hi = 10000;

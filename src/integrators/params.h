@@ -85,6 +85,8 @@ class ParamSet {
 
 // The declarations several integrators share, written once.
 namespace params {
+// A Choice parameter: its values, and the one it takes when not given.
+ParamSpec choice(std::string name, std::string doc, std::string defaultValue, std::vector<std::string> choices);
 ParamSpec maxDepth();
 ParamSpec spp();
 ParamSpec passes();

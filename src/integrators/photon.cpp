@@ -169,12 +169,12 @@ std::vector<ParamSpec> photonParams() {
   ParamSpec maxRadius{"max_radius", ParamType::Real, "cap on the k-nearest radius in metres"};
   maxRadius.defaultDoc = "5% of the scene's bounding radius";
   maxRadius.lo = 0, maxRadius.hi = 1e9, maxRadius.openLow = true;
-  ParamSpec kernel{"kernel", ParamType::Choice, "density-estimation kernel", "epanechnikov"};
-  kernel.choices = {"uniform", "cone", "epanechnikov", "silverman"};
+  ParamSpec kernel = params::choice("kernel", "density-estimation kernel", "epanechnikov",
+                                    {"uniform", "cone", "epanechnikov", "silverman"});
   ParamSpec gather{"final_gather", ParamType::Integer, "gather rays per first diffuse hit; 0: direct visualisation of the global map", "32"};
   gather.lo = 0, gather.hi = 100000;
-  ParamSpec aov{"aov", ParamType::Choice, "debug image instead of radiance: photons found, or the radius used", "radiance"};
-  aov.choices = {"radiance", "photons", "radius"};
+  ParamSpec aov = params::choice("aov", "debug image instead of radiance: photons found, or the radius used", "radiance",
+                                 {"radiance", "photons", "radius"});
   return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov};
 }
 

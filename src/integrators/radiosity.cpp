@@ -254,18 +254,15 @@ ParamSpec tolerance() {
 }
 
 ParamSpec display() {
-  ParamSpec s{"display", ParamType::Choice,
-              "smooth: B/π interpolated from vertex radiosities; flat: B/π per patch; gather: one final-gather bounce "
-              "(shadow rays for direct light, the solution one bounce away)",
-              "smooth"};
-  s.choices = {"smooth", "flat", "gather"};
-  return s;
+  return params::choice("display",
+                        "smooth: B/π interpolated from vertex radiosities; flat: B/π per patch; gather: one final-gather "
+                        "bounce (shadow rays for direct light, the solution one bounce away)",
+                        "smooth", {"smooth", "flat", "gather"});
 }
 
 ParamSpec patchesAov() {
-  ParamSpec s{"aov", ParamType::Choice, "patches: also write OUT.patches.ext, the mesh (flat patches, edges drawn)", "radiance"};
-  s.choices = {"radiance", "patches"};
-  return s;
+  return params::choice("aov", "patches: also write OUT.patches.ext, the mesh (flat patches, edges drawn)", "radiance",
+                        {"radiance", "patches"});
 }
 
 std::string resolvePatchSize(const Scene& scene, int, int, ParamSet& params) {
