@@ -52,11 +52,13 @@ TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 
   // around 2 over the seeds' noise (variance mean(d²)/2 from their differences d) within
   // [0.7, 1.4] (768 values: its standard error ~5%). Merging's bias is zero here: the radiance
   // is the same everywhere.
+  // Both heuristics, and the Sobol' sampler (its points are uniform one by one, so the
+  // expectation is the same; the seeds' independence, which the spread check needs, too).
   auto scene = sceneFile("furnace");
-  for (const char* heuristic : {"power", "balance"})
+  for (const auto& [heuristic, sampler] : {std::pair{"power", "independent"}, {"balance", "independent"}, {"power", "sobol"}})
     for (const char* name : kBidirectional) {
-      INFO(name << ", " << heuristic << " heuristic");
-      const std::map<std::string, std::string> choices{{"heuristic", heuristic}};
+      INFO(name << ", " << heuristic << " heuristic, " << sampler << " sampler");
+      const std::map<std::string, std::string> choices{{"heuristic", heuristic}, {"sampler", sampler}};
       ImageRGB a = renderWith(*scene, name, 16, 16, 64, 1, {{"max_depth", 64}, {"radius", 0.05}}, 0, false, nullptr, choices);
       ImageRGB b = renderWith(*scene, name, 16, 16, 64, 2, {{"max_depth", 64}, {"radius", 0.05}}, 0, false, nullptr, choices);
       checkFurnace(a, b);
@@ -92,12 +94,14 @@ TEST_CASE("bidirectional: the mirror caustic of a point light per pixel - E = I/
   // light tracing (t = 1) in bdpt, merging too in vcm and bpm. 512 iterations; merge radius
   // 2 cm, about two pixels' footprint, where the closed form's curvature biases a disc average
   // by ~0.1%. Acceptance as the light tracer's test (checkMirrorCaustic). With either MIS
-  // heuristic: the weights must sum to 1 over the techniques for β = 1 as for β = 2.
-  for (const char* heuristic : {"power", "balance"})
+  // heuristic: the weights must sum to 1 over the techniques for β = 1 as for β = 2. With the
+  // Sobol' sampler too: stratified draws must not shift any pixel's expectation.
+  for (const auto& [heuristic, sampler] : {std::pair{"power", "independent"}, {"balance", "independent"}, {"power", "sobol"}})
     for (const char* name : kBidirectional) {
-      INFO(name << ", " << heuristic << " heuristic");
+      INFO(name << ", " << heuristic << " heuristic, " << sampler << " sampler");
       checkMirrorCaustic([&](const Scene& scene, int W, uint64_t seed) {
-        return renderWith(scene, name, W, W, 512, seed, {{"radius", 0.02}}, 0, false, nullptr, {{"heuristic", heuristic}});
+        return renderWith(scene, name, W, W, 512, seed, {{"radius", 0.02}}, 0, false, nullptr,
+                          {{"heuristic", heuristic}, {"sampler", sampler}});
       });
     }
 }
@@ -194,13 +198,15 @@ TEST_CASE("bdpt, vcm and bpm agree with the path tracer region by region on the 
 TEST_CASE("bidirectional methods are deterministic: the same image bit for bit with 1 or 2 threads - and spectral") {
   auto scene = sceneFile("cornell-spheres");
   for (const char* name : kBidirectional)
-    for (bool spectral : {false, true}) {
-      INFO(name << (spectral ? " spectral" : ""));
-      ImageRGB one = renderWith(*scene, name, 40, 40, 2, 9, {}, 1, spectral);
-      ImageRGB two = renderWith(*scene, name, 40, 40, 2, 9, {}, 2, spectral);
-      CHECK(one.data == two.data);
-      CHECK(renderWith(*scene, name, 40, 40, 2, 10, {}, 2, spectral).data != two.data);
-    }
+    for (bool spectral : {false, true})
+      for (const char* sampler : {"independent", "sobol"}) {
+        INFO(name << (spectral ? " spectral" : "") << ", " << sampler << " sampler");
+        const std::map<std::string, std::string> choices{{"sampler", sampler}};
+        ImageRGB one = renderWith(*scene, name, 40, 40, 2, 9, {}, 1, spectral, nullptr, choices);
+        ImageRGB two = renderWith(*scene, name, 40, 40, 2, 9, {}, 2, spectral, nullptr, choices);
+        CHECK(one.data == two.data);
+        CHECK(renderWith(*scene, name, 40, 40, 2, 10, {}, 2, spectral, nullptr, choices).data != two.data);
+      }
 }
 
 TEST_CASE("vcm and sppm agree region by region on the caustic scenes", "[long]") {

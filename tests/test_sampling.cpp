@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/qmc.h"
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "stats.h"
@@ -60,6 +61,77 @@ TEST_CASE("rng: hashed streams (one per photon) repeat, differ, and are uncorrel
   CHECK(sum / n == Approx(0.5).margin(0.005));
   CHECK(sum2 / n == Approx(1.0 / 3.0).margin(0.005));
   CHECK(std::abs(cross / n / (1.0 / 12.0)) < 0.015);
+}
+
+TEST_CASE("qmc: the Sobol' second dimension matches its direction numbers v_k = v_{k-1} ^ (v_{k-1} >> 1)") {
+  // The definition, bit by bit: point i is the XOR of v_k over the set bits k of i, v_0 = 2^31.
+  auto byDefinition = [](uint32_t index) {
+    uint32_t result = 0, v = 1u << 31;
+    for (int k = 0; k < 32; ++k, v ^= v >> 1)
+      if (index >> k & 1u) result ^= v;
+    return result;
+  };
+  // Its first points as fractions (the Sobol' sequence's second coordinate): 0, 1/2, 3/4, 1/4.
+  CHECK(qmc::sobolSecond(0) == 0u);
+  CHECK(qmc::sobolSecond(1) == 0x80000000u);
+  CHECK(qmc::sobolSecond(2) == 0xc0000000u);
+  CHECK(qmc::sobolSecond(3) == 0x40000000u);
+  Rng rng(5);
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t index = i < 50000 ? i : rng.nextU32();
+    if (qmc::sobolSecond(index) != byDefinition(index)) FAIL("index " << index);
+  }
+  CHECK(qmc::reverseBits(1u) == 0x80000000u);
+  CHECK(qmc::reverseBits(0x12345678u) == 0x1e6a2c48u);
+}
+
+TEST_CASE("qmc: every power-of-two prefix of a scrambled, shuffled sequence is a (0, k, 2)-net") {
+  // The first 2^k points put exactly one point in each of the 2^k cells 2^-a × 2^-(k-a), for
+  // every a: what stratifies a pixel's first 2^k samples in every aspect ratio at once. Owen
+  // scrambling the points and shuffling the index by another Owen scramble keep that.
+  int broken = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed)
+    for (int k = 1; k <= 10; ++k) {
+      const int n = 1 << k;
+      for (int a = 0; a <= k; ++a) {
+        std::vector<int> cells(size_t(n), 0);
+        for (int i = 0; i < n; ++i) {
+          const Vec2 p = qmc::sobol2D(uint32_t(i), seed);
+          if (!(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1)) FAIL("point outside [0, 1)²");
+          ++cells[size_t(int(p.x * float(1 << a)) << (k - a) | int(p.y * float(1 << (k - a))))];
+        }
+        for (int c : cells) broken += c != 1;
+      }
+    }
+  CHECK(broken == 0);
+}
+
+TEST_CASE("qmc: one point over many scrambles is uniform - and two sequences' points at one index are independent") {
+  // Uniform: point 5 of 20 000 sequences on a 10×10 grid, chi-square (expected 200 per cell).
+  const int seeds = 20000, bins = 10;
+  std::vector<double> observed(bins * bins, 0.0), expected(bins * bins, double(seeds) / (bins * bins));
+  for (int s = 0; s < seeds; ++s) {
+    const Vec2 p = qmc::sobol2D(5, mix64(uint64_t(s)));
+    ++observed[size_t(std::min(bins - 1, int(p.x * bins)) * bins + std::min(bins - 1, int(p.y * bins)))];
+  }
+  CHECK(test::chiSquarePValue(observed, expected) > 1e-3);
+  // Independent: two sequences (two draws of one path) over 16 indices. Each puts 8 points in
+  // its left half. If the draws are independent, P(both left) = 1/4 at every index, so q, the
+  // indices left in both, has mean 4 (checked within 4 standard errors). Unshuffled indices
+  // would pair the halves exactly, q ∈ {0, 8}: the same mean, but |q − 4| = 4 always, where a
+  // uniformly random pairing gives E|q − 4| = 0.76 (hypergeometric); the bound 2 tells them apart.
+  const int trials = 4000;
+  double sum = 0, sumSquares = 0, deviation = 0;
+  for (int t = 0; t < trials; ++t) {
+    int q = 0;
+    for (uint32_t i = 0; i < 16; ++i)
+      q += qmc::sobol2D(i, mix64(uint64_t(2 * t))).x < 0.5f && qmc::sobol2D(i, mix64(uint64_t(2 * t + 1))).x < 0.5f;
+    sum += q, sumSquares += double(q) * q, deviation += std::abs(q - 4);
+  }
+  const double mean = sum / trials, se = std::sqrt((sumSquares / trials - mean * mean) / trials);
+  INFO("q " << mean << " ± " << se << ", mean |q - 4| " << deviation / trials);
+  CHECK(std::abs(mean - 4.0) < 4 * se);
+  CHECK(deviation / trials < 2.0);
 }
 
 TEST_CASE("AliasTable picks items in proportion to their weights") {

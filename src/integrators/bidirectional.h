@@ -25,6 +25,9 @@ struct BidirectionalOptions {
   // The MIS heuristic for every pdf ratio: the power heuristic, β = 2 (Veach 1997 §9.2.4), or
   // the balance heuristic, β = 1 (SmallVCM's default, and pbrt-v3's bdpt).
   bool balanceHeuristic = false;
+  // Each subpath's first random numbers from Owen-scrambled Sobol' points over the iterations
+  // (PathSampler in bidirectional.cpp) instead of an independent stream.
+  bool sobol = false;
   // Whether merging at the light vertex y_length (x_length of the path) is one of the techniques.
   bool mergesAt(int lightLength) const { return merge && (lightLength >= 2 || directMerges); }
   // Debugging the estimator (bdpt): one image per technique (s, t), weighted (strategies); or

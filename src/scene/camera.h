@@ -19,6 +19,7 @@ struct CameraSample {
   float distance = 0;   // to the pinhole
   float We = 0;         // importance of the ray from the pinhole to the point
   float pdf = 0;        // solid-angle density of wi seen from the point: d²/cosθ (the pinhole is a delta position)
+  float pdfDir = 0;     // density with which generateRay() emits −wi: 1/(A cos³θ), as pdfWe()
 };
 
 struct Camera {
@@ -38,24 +39,12 @@ struct Camera {
   }
 
   // Film area at distance 1 from the pinhole.
-  float filmArea(int width, int height) const {
-    float tanHalf = std::tan(0.5f * yfov);
-    return 4.0f * tanHalf * tanHalf * (float(width) / float(height));
-  }
+  float filmArea(int width, int height) const { return filmArea(width, height, std::tan(0.5f * yfov)); }
 
   // Where the ray leaving the pinhole in direction d (unit) meets the film, in pixels; false when
   // it misses the film (behind the camera, or outside the image). The inverse of generateRay().
   bool raster(const Vec3& d, int width, int height, Vec2* r) const {
-    float z = glm::dot(d, forward);
-    if (!(z > 0)) return false;
-    float tanHalf = std::tan(0.5f * yfov);
-    float aspect = float(width) / float(height);
-    float sx = glm::dot(d, right) / z, sy = glm::dot(d, up) / z;
-    float x = (sx / (tanHalf * aspect) + 1.0f) * 0.5f * width;
-    float y = (1.0f - sy / tanHalf) * 0.5f * height;
-    if (!(x >= 0 && x < width && y >= 0 && y < height)) return false;
-    *r = Vec2(x, y);
-    return true;
+    return raster(d, width, height, std::tan(0.5f * yfov), r);
   }
 
   // Importance of the ray leaving the pinhole in direction d (unit): 1/(A cos⁴θ) on the film, 0
@@ -77,8 +66,9 @@ struct Camera {
   }
 
   // The connection from scene point p to the pinhole: the pixel it lands in, We, and the
-  // density d²/cosθ that turns We into a contribution β f |cos| We / pdf. False when p is not in
-  // view.
+  // density d²/cosθ that turns We into a contribution β f |cos| We / pdf, with pdfWe's direction
+  // density beside them (bidirectional MIS needs both). False when p is not in view. One tan for
+  // all of them: a light path makes one such connection per vertex.
   bool sampleWi(const Vec3& p, int width, int height, CameraSample* s) const {
     Vec3 toCamera = position - p;
     float d2 = glm::dot(toCamera, toCamera);
@@ -86,10 +76,29 @@ struct Camera {
     s->distance = std::sqrt(d2);
     s->wi = toCamera / s->distance;
     Vec3 d = -s->wi;
-    if (!raster(d, width, height, &s->raster)) return false;
+    const float tanHalf = std::tan(0.5f * yfov);
+    if (!raster(d, width, height, tanHalf, &s->raster)) return false;
     float c = glm::dot(d, forward);
-    s->We = 1.0f / (filmArea(width, height) * c * c * c * c);
+    const float area = filmArea(width, height, tanHalf);
+    s->We = 1.0f / (area * c * c * c * c);
+    s->pdfDir = 1.0f / (area * c * c * c);
     s->pdf = d2 / c;
+    return true;
+  }
+
+ private:
+  static float filmArea(int width, int height, float tanHalf) {
+    return 4.0f * tanHalf * tanHalf * (float(width) / float(height));
+  }
+  bool raster(const Vec3& d, int width, int height, float tanHalf, Vec2* r) const {
+    float z = glm::dot(d, forward);
+    if (!(z > 0)) return false;
+    float aspect = float(width) / float(height);
+    float sx = glm::dot(d, right) / z, sy = glm::dot(d, up) / z;
+    float x = (sx / (tanHalf * aspect) + 1.0f) * 0.5f * width;
+    float y = (1.0f - sy / tanHalf) * 0.5f * height;
+    if (!(x >= 0 && x < width && y >= 0 && y < height)) return false;
+    *r = Vec2(x, y);
     return true;
   }
 };
