@@ -45,24 +45,30 @@ inline uint32_t owenScramble(uint32_t x, uint32_t seed) { return reverseBits(lai
 // (v_k = v_{k−1} ^ (v_{k−1} >> 1)), so the j-th binary digit of point i is the XOR of index
 // bits k with C(k, j) odd, which by Lucas' theorem are the k whose bits contain j's: a
 // superset sum over 5-bit positions, five shift-and-mask steps instead of a loop over the
-// index's 32 bits.
-inline uint32_t sobolSecond(uint32_t index) {
+// index's 32 bits. Returned with digit j in bit j (reversed); sobolSecond() as a fraction.
+inline uint32_t sobolSecondReversed(uint32_t index) {
   uint32_t w = index;  // bit k: index bit k; becomes the XOR over the supersets of k
   w ^= (w >> 1) & 0x55555555u;
   w ^= (w >> 2) & 0x33333333u;
   w ^= (w >> 4) & 0x0f0f0f0fu;
   w ^= (w >> 8) & 0x00ff00ffu;
   w ^= (w >> 16) & 0x0000ffffu;
-  return reverseBits(w);  // digit j of the fraction is bit 31 − j
+  return w;
 }
+inline uint32_t sobolSecond(uint32_t index) { return reverseBits(sobolSecondReversed(index)); }
 
 inline float toUnit(uint32_t x) { return float(x >> 8) * 0x1p-24f; }  // [0, 1), as Rng::uniform()
 
-// Point `index` of the scrambled, shuffled 2D sequence named by `seed`.
+// Point `index` of the scrambled, shuffled 2D sequence named by `seed`: the index Owen-scrambled
+// (the shuffle), then both coordinates. Written without the reversals that cancel:
+// owenScramble(reverseBits(i)) = reverseBits(laineKarras(i)), and likewise for the second
+// coordinate, whose digits sobolSecondReversed() already gives in reversed order.
 inline Vec2 sobol2D(uint32_t index, uint64_t seed) {
   const uint64_t h = mix64(seed);
   const uint32_t i = owenScramble(index, uint32_t(h));
-  return Vec2(toUnit(owenScramble(reverseBits(i), uint32_t(h >> 32))), toUnit(owenScramble(sobolSecond(i), uint32_t(mix64(h)))));
+  const uint32_t x = reverseBits(laineKarras(i, uint32_t(h >> 32)));
+  const uint32_t y = reverseBits(laineKarras(sobolSecondReversed(i), uint32_t(mix64(h))));
+  return Vec2(toUnit(x), toUnit(y));
 }
 
 }  // namespace pl::qmc
