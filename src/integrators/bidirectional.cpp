@@ -828,7 +828,7 @@ ParamSpec directMerges() {
 
 ParamSpec sampler() {
   return params::choice("sampler",
-                        "where each subpath's first 32 random numbers come from: independent (a random stream) or sobol "
+                        "where each subpath's first 8 draws (a 1D or 2D sample each) come from: independent (a random stream) or sobol "
                         "(Owen-scrambled Sobol' points over the iterations, per pixel and per light path)",
                         "independent", {"independent", "sobol"});
 }
