@@ -358,6 +358,28 @@ def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulate
     assert row.startswith("| point | photonlab | `bdpt` | 200 | 0.5000 | 2.0 ± 1.0 | 0.5 ± 0.5 | 0.0 ± 0.0 |")
 
 
+def test_compare_smallvcm_trimmed_relmse_leaves_out_the_worst_pixels(tmp_path):
+    # 100 pixels: 98 off by 10% of a reference of 1 (relMSE 0.01/1.01 each), one off by 1 (1/1.01)
+    # and one firefly of 1000. The best 99% keep the 98 and the one off by 1:
+    # (98 · 0.01 + 1) / 1.01 / 99; the whole image's mean would be dominated by the firefly.
+    import compare_smallvcm as cs
+    ref = np.ones((10, 10, 3), dtype=np.float32)
+    img = np.full((10, 10, 3), 1.1, dtype=np.float32)
+    img[0, 0] = 2.0
+    img[9, 9] = 1001.0
+    paths = []
+    for name, data in (("img.exr", img), ("ref.exr", ref)):
+        path = str(tmp_path / name)
+        out = oiio.ImageOutput.create(path)
+        out.open(path, oiio.ImageSpec(10, 10, 3, oiio.FLOAT))
+        out.write_image(data)
+        out.close()
+        paths.append(path)
+    expected = (98 * 0.01 + 1.0) / 1.01 / 99
+    assert cs.trimmed_relmse(paths[0], paths[1]) == pytest.approx(expected, rel=1e-5)
+    assert cs.trimmed_relmse(paths[0], paths[1], keep=1.0) == pytest.approx((98 * 0.01 + 1 + 1000 ** 2) / 1.01 / 100, rel=1e-5)
+
+
 def test_radiosity_convergence_tabulates_every_budget_and_draws_the_figure(tmp_path):
     # Two small budgets on the Cornell box at 16 px: one table row each (patches growing with
     # the budget, both displays' errors), the figure written; a missing binary is one line.
