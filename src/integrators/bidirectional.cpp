@@ -167,12 +167,12 @@ class VertexConnectionMerging::Tracer {
 
   // ----- light subpaths ----------------------------------------------------------------------
 
-  void traceLightPath(PathSampler& rng, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
+  void traceLightPath(PathSampler& sampler, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
     const AliasTable& lights = scene_.lightDistribution();
     if (lights.size() == 0 || lights.total() <= 0) return;
     float pick;
-    const Light& light = *scene_.lights()[lights.sample(rng.get1D(), &pick)];
-    const Vec2 uPosition = rng.get2D(), uDirection = rng.get2D();
+    const Light& light = *scene_.lights()[lights.sample(sampler.get1D(), &pick)];
+    const Vec2 uPosition = sampler.get2D(), uDirection = sampler.get2D();
     EmittedRay e = light.sampleLe(uPosition, uDirection, lambda);
     if (!(e.pdfPos * e.pdfDir > 0) || isBlack(e.flux) || !isFinite(e.flux)) return;
     // y₀: chosen by next-event estimation with area density directPdfA (a directional light's
@@ -216,17 +216,17 @@ class VertexConnectionMerging::Tracer {
       path.dVM /= Mis(cosIn);
 
       if (!hit.bsdf->isDelta()) {
-        LightVertex v{hit,     wo,       path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly,
+        LightVertex v{hit, wo, path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly,
                       hit.shading.toLocal(wo), hit.shading.toLocal(hit.ng)};
         if (o_.merge || o_.connect) vertices->push_back(v);
         if (o_.connect) connectToCamera(v, path.lambda, splat);  // t = 1
       }
       if (path.length + 1 > o_.maxDepth) return;
-      if (!scatter(hit, wo, TransportMode::Importance, rng, path, o_.mergesAt(path.length))) return;
+      if (!scatter(hit, wo, TransportMode::Importance, sampler, path, o_.mergesAt(path.length))) return;
       // Russian roulette from the 4th vertex, as the light tracer.
       if (path.length >= 3) {
         float q = std::min(1.0f, maxComponent(path.throughput));
-        if (!(q > 0) || rng.get1D() >= q) return;
+        if (!(q > 0) || sampler.get1D() >= q) return;
         path.beta /= q;
         path.throughput /= q;
       }
@@ -282,7 +282,7 @@ class VertexConnectionMerging::Tracer {
 
   // A camera path; connects to the light vertices [lights, lightsEnd) (the light subpath of the
   // same index), merges with every light vertex through the grid.
-  void traceCameraPath(PathSampler& rng, const Ray& cameraRay, const SampledWavelengths& lambda, const LightVertex* lights,
+  void traceCameraPath(PathSampler& sampler, const Ray& cameraRay, const SampledWavelengths& lambda, const LightVertex* lights,
                        const LightVertex* lightsEnd, const MergeGrid* grid, Sink& sink) const {
     SubPath path;
     path.lambda = lambda;
@@ -317,7 +317,7 @@ class VertexConnectionMerging::Tracer {
       if (!hit.bsdf->isDelta()) {
         const Vec3 woLocal = hit.shading.toLocal(wo);
         if (o_.connect) {
-          directIllumination(hit, woLocal, path, rng, sink);  // s = 1
+          directIllumination(hit, woLocal, path, sampler, sink);  // s = 1
           const Vec3 woShading = hit.shading.toWorld(woLocal);  // wo as the connections see it
           for (const LightVertex* l = lights; l < lightsEnd; ++l) {
             const LightVertex& v = *l;
@@ -327,11 +327,11 @@ class VertexConnectionMerging::Tracer {
         }
         if (o_.merge && grid) merge(hit, woLocal, path, *grid, sink);
       }
-      if (!scatter(hit, wo, TransportMode::Radiance, rng, path, true)) return;
+      if (!scatter(hit, wo, TransportMode::Radiance, sampler, path, true)) return;
       // Russian roulette from the 4th vertex, as the path tracer.
       if (path.length >= 4) {
         float q = russianRouletteSurvival(path.beta, path.etaScale);
-        if (!(q > 0) || rng.get1D() >= q) return;
+        if (!(q > 0) || sampler.get1D() >= q) return;
         path.beta /= q;
       }
     }
@@ -389,12 +389,12 @@ class VertexConnectionMerging::Tracer {
   // light), and the light subpath of one more vertex with everything further back (wCamera,
   // eqs. 44–45). The latter's first factor is the density of y₀ emitting towards z over the
   // density of choosing y₀: pdfDir·cos z/d², or pdfPos·cos z for a directional light.
-  void directIllumination(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, PathSampler& rng, Sink& sink) const {
+  void directIllumination(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, PathSampler& sampler, Sink& sink) const {
     const AliasTable& lights = scene_.lightDistribution();
     if (lights.size() == 0 || lights.total() <= 0) return;
     float pick;
-    const Light& light = *scene_.lights()[lights.sample(rng.get1D(), &pick)];
-    const Vec2 u = rng.get2D();
+    const Light& light = *scene_.lights()[lights.sample(sampler.get1D(), &pick)];
+    const Vec2 u = sampler.get2D();
     LightSample ls;
     if (!light.sampleLi(hit.p, u, path.lambda, &ls)) return;
     const Vec3 wo = hit.shading.toWorld(woLocal);
@@ -500,12 +500,12 @@ class VertexConnectionMerging::Tracer {
   // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
   // measure.
   // mergeHere: merging at this vertex is a technique (BidirectionalOptions::mergesAt).
-  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, PathSampler& rng, SubPath& path, bool mergeHere) const {
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, PathSampler& sampler, SubPath& path, bool mergeHere) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
     const BSDFContext bc = bsdfContext(hit, path.lambda, mode);
-    const Vec2 u = rng.get2D();
-    if (!hit.bsdf->sample(woLocal, bc, u, rng.get1D(), &bs)) return false;
+    const Vec2 u = sampler.get2D();
+    if (!hit.bsdf->sample(woLocal, bc, u, sampler.get1D(), &bs)) return false;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();
     const Vec3 wi = hit.shading.toWorld(bs.wi);
     const bool transmitted = bs.wi.z * woLocal.z < 0;
