@@ -35,7 +35,7 @@
 
 #include "core/interrupt.h"
 #include "core/memory.h"
-#include "core/qmc.h"
+#include "core/sampler.h"
 #include "core/parallel.h"
 #include "integrators/registry.h"
 #include "photon/hash_grid.h"
@@ -54,33 +54,10 @@ inline float misTerm(float ratio, bool balance) { return balance ? ratio : ratio
 constexpr float kWavelengths = 3.0f;
 }  // namespace
 
-// Where a subpath's random numbers come from (--sampler). independent: its own random stream.
-// sobol: its first kSlots draws (each a 1D or a 2D sample: the jitter, a light pick, a
-// direction, a lobe choice, a roulette) are points of Owen-scrambled Sobol' sequences
-// (core/qmc.h) indexed by the iteration, one sequence per (subpath, draw), so that a pixel's
-// camera paths, and light path i's, are stratified draw by draw over the iterations; later
-// draws are the stream's. Each point is uniform on its own, so every estimate stays unbiased.
-// Eight slots reach the second vertex of either subpath, where the stratification pays; 32 gave
-// the same error on SmallVCM's box at equal iterations, and each point costs ~150 instructions.
-class PathSampler {
- public:
-  static constexpr int kSlots = 8;
-  PathSampler(Rng& rng, bool sobol, uint64_t key, uint32_t index) : rng_(rng), sobol_(sobol), key_(key), index_(index) {}
-  float get1D() { return sobol_ && slot_ < kSlots ? next().x : rng_.uniform(); }
-  Vec2 get2D() {
-    if (sobol_ && slot_ < kSlots) return next();
-    const float y = rng_.uniform();  // y first: the order GCC gave the two draws as arguments
-    return Vec2(rng_.uniform(), y);
-  }
-
- private:
-  Vec2 next() { return qmc::sobol2D(index_, key_ ^ (uint64_t(slot_++) * 0x9e3779b97f4a7c15ULL)); }
-  Rng& rng_;
-  bool sobol_;
-  uint64_t key_;
-  uint32_t index_;
-  int slot_ = 0;
-};
+// --sampler sobol (core/sampler.h) covers each subpath's first kSamplerSlots draws. Eight
+// slots reach the second vertex of either subpath, where the stratification pays; 32 gave the
+// same error on SmallVCM's box at equal iterations, and each point costs ~150 instructions.
+constexpr int kSamplerSlots = 8;
 
 // ---------------------------------------------------------------------------------------------
 // One iteration's constants (tech. rep. §4.3). N light paths, one camera path per pixel.
@@ -167,7 +144,7 @@ class VertexConnectionMerging::Tracer {
 
   // ----- light subpaths ----------------------------------------------------------------------
 
-  void traceLightPath(PathSampler& sampler, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
+  void traceLightPath(Sampler& sampler, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
     const AliasTable& lights = scene_.lightDistribution();
     if (lights.size() == 0 || lights.total() <= 0) return;
     float pick;
@@ -282,7 +259,7 @@ class VertexConnectionMerging::Tracer {
 
   // A camera path; connects to the light vertices [lights, lightsEnd) (the light subpath of the
   // same index), merges with every light vertex through the grid.
-  void traceCameraPath(PathSampler& sampler, const Ray& cameraRay, const SampledWavelengths& lambda, const LightVertex* lights,
+  void traceCameraPath(Sampler& sampler, const Ray& cameraRay, const SampledWavelengths& lambda, const LightVertex* lights,
                        const LightVertex* lightsEnd, const MergeGrid* grid, Sink& sink) const {
     SubPath path;
     path.lambda = lambda;
@@ -389,7 +366,7 @@ class VertexConnectionMerging::Tracer {
   // light), and the light subpath of one more vertex with everything further back (wCamera,
   // eqs. 44–45). The latter's first factor is the density of y₀ emitting towards z over the
   // density of choosing y₀: pdfDir·cos z/d², or pdfPos·cos z for a directional light.
-  void directIllumination(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, PathSampler& sampler, Sink& sink) const {
+  void directIllumination(const SurfaceHit& hit, const Vec3& woLocal, const SubPath& path, Sampler& sampler, Sink& sink) const {
     const AliasTable& lights = scene_.lightDistribution();
     if (lights.size() == 0 || lights.total() <= 0) return;
     float pick;
@@ -500,7 +477,7 @@ class VertexConnectionMerging::Tracer {
   // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
   // measure.
   // mergeHere: merging at this vertex is a technique (BidirectionalOptions::mergesAt).
-  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, PathSampler& sampler, SubPath& path, bool mergeHere) const {
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Sampler& sampler, SubPath& path, bool mergeHere) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
     const BSDFContext bc = bsdfContext(hit, path.lambda, mode);
@@ -666,7 +643,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       const size_t begin = k * chunkSize, end = std::min(pixels, begin + chunkSize);
       for (size_t i = begin; i < end; ++i) {
         Rng rng = Rng::keyed(lightStream, i, uint64_t(iteration));
-        PathSampler sampler(rng, o_.sobol, mix64(lightStream ^ i), uint32_t(iteration));
+        Sampler sampler(rng, o_.sobol, mix64(lightStream ^ i), uint32_t(iteration), kSamplerSlots);
         tracer.traceLightPath(sampler, wavelengths(i), &verts, sink);
         ends.push_back(uint32_t(verts.size()));
       }
@@ -703,7 +680,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
         const std::vector<uint32_t>& ends = chunkEnds[pixel / chunkSize];
         const size_t j = pixel % chunkSize;
         const LightVertex* first = chunk.data() + (j == 0 ? 0 : ends[j - 1]);
-        PathSampler sampler(c.rng, o_.sobol, mix64(cameraStream ^ pixel), uint32_t(iteration));
+        Sampler sampler(c.rng, o_.sobol, mix64(cameraStream ^ pixel), uint32_t(iteration), kSamplerSlots);
         if (o_.sobol) {  // the jitter is the sampler's first draw
           const Vec2 jitter = sampler.get2D();
           c.ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, W, H);

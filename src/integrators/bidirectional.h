@@ -26,7 +26,7 @@ struct BidirectionalOptions {
   // the balance heuristic, β = 1 (SmallVCM's default, and pbrt-v3's bdpt).
   bool balanceHeuristic = false;
   // Each subpath's first random numbers from Owen-scrambled Sobol' points over the iterations
-  // (PathSampler in bidirectional.cpp) instead of an independent stream.
+  // (core/sampler.h) instead of an independent stream.
   bool sobol = false;
   // Whether merging at the light vertex y_length (x_length of the path) is one of the techniques.
   bool mergesAt(int lightLength) const { return merge && (lightLength >= 2 || directMerges); }

@@ -4,12 +4,12 @@
 
 namespace pl {
 
-Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
+Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
-  if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), lambda, rng, false);
+  if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), lambda, sampler, false);
   return L;
 }
 

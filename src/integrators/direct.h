@@ -7,7 +7,7 @@ namespace pl {
 // first hit. Mirrors and glass show only what they emit (black).
 class DirectIntegrator final : public PixelIntegrator {
  public:
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const override;
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   const char* name() const override { return "direct"; }
 };
 

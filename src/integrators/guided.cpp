@@ -38,7 +38,7 @@ constexpr int kFallbackDepth = 8;
 
 }  // namespace
 
-Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng,
+Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
                               Guide& guide, bool record, int thread, float pixel) const {
   Spectrum L(0.0f), beta(1.0f), rouletteBeta(1.0f);
   float etaScale = 1.0f;
@@ -91,7 +91,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     // guide; with this pair the guide also learns less of the light that next-event estimation
     // already finds, since the hits it records are weighted down. Equal relMSE at equal
     // samples on the Cornell box (1024 spp, 2 seeds), 4–5% less time.
-    if (!delta) L += beta * estimateDirect(scene, hit, wo, lambda, rng, true);
+    if (!delta) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
 
     // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
     // f·|cosθ|/(α p_bsdf + (1 − α) p_guide) whichever drew the direction (Veach's balance
@@ -105,11 +105,11 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     float guidePdf = 0.0f;  // the guide's density for the direction taken (0 without a guide)
     float eta = 1.0f;
     bool sampledDelta = false;
-    const float uSelect = alpha < 1.0f ? rng.uniform() : 0.0f;
-    Vec2 u(rng.uniform(), rng.uniform());
+    const float uSelect = alpha < 1.0f ? sampler.get1D() : 0.0f;
+    Vec2 u = sampler.get2D();
     if (uSelect < alpha) {
       BSDFSample bs;
-      if (!hit.bsdf->sample(wo, bc, u, rng.uniform(), &bs)) break;
+      if (!hit.bsdf->sample(wo, bc, u, sampler.get1D(), &bs)) break;
       if (bs.terminatesSecondary) lambda.terminateSecondary();
       wiLocal = bs.wi;
       wiWorld = hit.shading.toWorld(bs.wi);
@@ -171,13 +171,13 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     if (pixel > 0 && incident > 0 && !sampledDelta) {
       const float q = std::clamp(kWindow * average(beta) * incident / pixel, kFloor, 1.0f);
       if (q < 1) {
-        if (rng.uniform() >= q) break;
+        if (sampler.get1D() >= q) break;
         beta /= q;
         rouletteBeta /= q;
       }
     } else if (depth >= kFallbackDepth) {
       float q = russianRouletteSurvival(rouletteBeta, etaScale);
-      if (q <= 0 || rng.uniform() >= q) break;
+      if (q <= 0 || sampler.get1D() >= q) break;
       beta /= q;
       rouletteBeta /= q;
     }
@@ -414,8 +414,9 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
           if (budget.expired()) return;
           const size_t pixel = size_t(y) * W + x;
           CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample), JitterOrder::XThenY);
-          Spectrum L = unguided ? pathTracer.Li(path.ray, scene, path.lambda, path.rng)
-                                : Li(path.ray, scene, path.lambda, path.rng, *guide, record, thread, pixelValue(pixel));
+          Sampler sampler(path.rng);
+          Spectrum L = unguided ? pathTracer.Li(path.ray, scene, path.lambda, sampler)
+                                : Li(path.ray, scene, path.lambda, sampler, *guide, record, thread, pixelValue(pixel));
           if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
           ++it.count[pixel];
           if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film

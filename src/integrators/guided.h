@@ -39,7 +39,7 @@ class GuidedIntegrator final : public Integrator {
 
   // One camera path; with `record`, what it found is recorded into the guide (as `thread`).
   // `pixel`: the pixel's value as far as it is known (0: not yet), for Russian roulette.
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, Guide& guide, bool record,
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler, Guide& guide, bool record,
               int thread, float pixel) const;
 
   // The iteration schedule for `spp` samples per pixel: iteration k has 2^k samples, unless

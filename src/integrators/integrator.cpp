@@ -3,13 +3,13 @@
 namespace pl {
 
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
-                        Rng& rng, bool mis) {
+                        Sampler& sampler, bool mis) {
   const AliasTable& dist = scene.lightDistribution();
   if (dist.size() == 0 || dist.total() <= 0) return Spectrum(0.0f);
   float pmf;
-  size_t index = dist.sample(rng.uniform(), &pmf);
+  size_t index = dist.sample(sampler.get1D(), &pmf);
   const Light& light = *scene.lights()[index];
-  Vec2 u(rng.uniform(), rng.uniform());
+  Vec2 u = sampler.get2D();
   LightSample ls;
   if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
   Vec3 wi = hit.shading.toLocal(ls.wi);

@@ -12,6 +12,7 @@
 
 #include "core/budget.h"
 #include "core/rng.h"
+#include "core/sampler.h"
 #include "render/film.h"
 #include "render/render_options.h"
 #include "scene/scene.h"
@@ -54,7 +55,7 @@ class PixelIntegrator : public Integrator {
   virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
   // Radiance arriving along a camera ray, at the path's wavelengths (RGB unless spectral). A
   // dispersive refraction on the way ends the secondary wavelengths in `lambda`.
-  virtual Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const = 0;
+  virtual Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const = 0;
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
@@ -98,7 +99,7 @@ inline float powerHeuristic(float pdfA, float pdfB) {
 // it, one shadow ray. Returns f·Li·|cosθ|/pdf. With `mis`, area-light samples are weighted by
 // the power heuristic against BSDF sampling (Veach 1997); delta lights always get weight 1.
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
-                        Rng& rng, bool mis);
+                        Sampler& sampler, bool mis);
 
 // What a camera path sees when its ray leaves the scene: the environment's radiance along it
 // (0 without one). After a non-specular bounce it is weighted by the power heuristic against

@@ -4,7 +4,7 @@
 
 namespace pl {
 
-Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
+Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
   Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
   float etaScale = 1.0f;          // ∏ η² over refractions (Russian roulette divides it out)
   Ray ray = cameraRay;
@@ -33,11 +33,11 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
     if (depth >= maxDepth_) break;
 
     Vec3 wo = hit.shading.toLocal(-ray.d);
-    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, lambda, rng, true);
+    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
 
     BSDFSample bs;
-    Vec2 u(rng.uniform(), rng.uniform());
-    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), u, rng.uniform(), &bs)) break;
+    Vec2 u = sampler.get2D();
+    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), u, sampler.get1D(), &bs)) break;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);
     // Reject directions that the shading normal allows but the geometry does not (light leaks).
@@ -54,7 +54,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
     // dividing by q keeps the estimator unbiased.
     if (depth >= 3) {
       float q = russianRouletteSurvival(beta, etaScale);
-      if (q <= 0 || rng.uniform() >= q) break;
+      if (q <= 0 || sampler.get1D() >= q) break;
       beta /= q;
     }
   }

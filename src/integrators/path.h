@@ -10,7 +10,7 @@ namespace pl {
 class PathIntegrator final : public PixelIntegrator {
  public:
   explicit PathIntegrator(int maxDepth) : maxDepth_(maxDepth) {}
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const override;
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   const char* name() const override { return "path"; }
 
  private:

@@ -65,12 +65,12 @@ Spectrum PhotonIntegrator::causticRadiance(const SurfaceHit& hit, const Vec3& wo
 }
 
 Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, SampledWavelengths& lambda,
-                                       Rng& rng) const {
+                                       Sampler& sampler) const {
   Spectrum sum(0.0f);
   Vec3 woLocal = hit.shading.toLocal(wo);
   for (int i = 0; i < o_.finalGather; ++i) {
     BSDFSample bs;
-    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &bs))
+    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), sampler.get2D(), sampler.get1D(), &bs))
       continue;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
     Spectrum beta = bs.weight;
@@ -87,8 +87,8 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
         break;
       }
       BSDFSample s;
-      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), bsdfContext(y, lambda), Vec2(rng.uniform(), rng.uniform()),
-                          rng.uniform(), &s))
+      if (!y.bsdf->sample(y.shading.toLocal(-ray.d), bsdfContext(y, lambda), sampler.get2D(),
+                          sampler.get1D(), &s))
         break;
       if (s.terminatesSecondary) lambda.terminateSecondary();
       beta *= s.weight;
@@ -98,7 +98,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
   return sum / float(o_.finalGather);
 }
 
-Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
+Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
   Spectrum L(0.0f), beta(1.0f);
   Ray ray = cameraRay;
   for (int depth = 0; depth <= o_.maxDepth; ++depth) {
@@ -115,7 +115,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     Vec3 woLocal = hit.shading.toLocal(wo);
     if (hit.bsdf->isDelta()) {
       BSDFSample s;
-      if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s))
+      if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), sampler.get2D(), sampler.get1D(), &s))
         break;
       if (s.terminatesSecondary) lambda.terminateSecondary();
       beta *= s.weight;
@@ -127,10 +127,10 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect, &stats);
       return Spectrum(o_.aov == "photons" ? float(stats.photons) : stats.radius);
     }
-    L += beta * estimateDirect(scene, hit, woLocal, lambda, rng, false);
+    L += beta * estimateDirect(scene, hit, woLocal, lambda, sampler, false);
     L += beta * causticRadiance(hit, wo, lambda);
     if (o_.finalGather > 0)
-      L += beta * finalGather(scene, hit, wo, lambda, rng);
+      L += beta * finalGather(scene, hit, wo, lambda, sampler);
     else
       L += beta * maps_.global.radiance(hit, wo, lambda, o_.density, Photon::kAcceptIndirect);
     break;

@@ -26,7 +26,7 @@ class PhotonIntegrator final : public PixelIntegrator {
  public:
   explicit PhotonIntegrator(const PhotonOptions& options) : o_(options) {}
   void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) override;
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const override;
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   const char* name() const override { return "photon"; }
   // Photon paths traced, and the mean gather radius (measured once, when the maps exist).
   void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const override;
@@ -43,7 +43,7 @@ class PhotonIntegrator final : public PixelIntegrator {
 
  private:
   Spectrum causticRadiance(const SurfaceHit& hit, const Vec3& wo, const SampledWavelengths& lambda) const;
-  Spectrum finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, SampledWavelengths& lambda, Rng& rng) const;
+  Spectrum finalGather(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, SampledWavelengths& lambda, Sampler& sampler) const;
   PhotonOptions o_;
   PhotonMaps maps_;
   mutable double gatherRadius_ = -1;  // meanGatherRadius(), once known

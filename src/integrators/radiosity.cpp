@@ -171,7 +171,7 @@ Spectrum RadiosityIntegrator::shade(const SurfaceHit& hit, const Vec3& w, const 
   return (weights.x * vertexValues[c[0]] + weights.y * vertexValues[c[1]] + weights.z * vertexValues[c[2]]) * kInvPi;
 }
 
-Spectrum RadiosityIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const {
+Spectrum RadiosityIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
   if (!solved_) return Spectrum(0.0f);
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return Spectrum(0.0f);
@@ -193,11 +193,11 @@ Spectrum RadiosityIntegrator::Li(const Ray& ray, const Scene& scene, SampledWave
   int p = mesh_->locate(hit.primitive, hit.barycentric, wo, &weights);
   if (p < 0 || isBlack(mesh_->patches()[p].reflectance)) return L;
   const Vec3 woLocal = hit.shading.toLocal(wo);
-  L += estimateDirect(scene, hit, woLocal, lambda, rng, false);
+  L += estimateDirect(scene, hit, woLocal, lambda, sampler, false);
   BSDFSample bs;
   const BSDFContext context = bsdfContext(hit, lambda);
-  Vec2 u(rng.uniform(), rng.uniform());
-  if (!hit.bsdf->sample(woLocal, context, u, rng.uniform(), &bs)) return L;
+  Vec2 u = sampler.get2D();
+  if (!hit.bsdf->sample(woLocal, context, u, sampler.get1D(), &bs)) return L;
   const Vec3 wi = hit.shading.toWorld(bs.wi);
   if (glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) <= 0) return L;  // below the geometric surface
   SurfaceHit y;

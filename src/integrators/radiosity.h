@@ -68,7 +68,7 @@ class RadiosityIntegrator final : public PixelIntegrator {
  public:
   explicit RadiosityIntegrator(RadiosityOptions o) : o_(o) {}
   void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) override;
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const override;
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;
   const char* name() const override { return "radiosity"; }
   std::vector<std::string> warnings() const override { return warnings_; }

@@ -4,14 +4,14 @@
 
 namespace pl {
 
-Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, int depth) const {
+Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler, int depth) const {
   SurfaceHit hit;
   if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
   const Spectrum T = scene.transmittance(hit, ray.d, lambda);
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);
-  if (!hit.bsdf->isDelta()) return T * (L + estimateDirect(scene, hit, wo, lambda, rng, false));
+  if (!hit.bsdf->isDelta()) return T * (L + estimateDirect(scene, hit, wo, lambda, sampler, false));
   if (depth >= maxDepth_) return T * L;
   // Enumerate the specular lobes deterministically: uc = 0 picks reflection whenever it has
   // any probability, uc → 1 picks transmission whenever it exists. The lobe's contribution is
@@ -28,7 +28,7 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
   for (int i = 0; i < count; ++i) {
     Spectrum w = lobes[i].weight * lobes[i].pdf;
     if (isBlack(w)) continue;
-    L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, lambda, rng, depth + 1);
+    L += w * trace(scene.spawnRay(hit, hit.shading.toWorld(lobes[i].wi)), scene, lambda, sampler, depth + 1);
   }
   return T * L;
 }

@@ -9,13 +9,13 @@ namespace pl {
 class WhittedIntegrator final : public PixelIntegrator {
  public:
   explicit WhittedIntegrator(int maxDepth) : maxDepth_(maxDepth) {}
-  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng) const override {
-    return trace(ray, scene, lambda, rng, 0);
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override {
+    return trace(ray, scene, lambda, sampler, 0);
   }
   const char* name() const override { return "whitted"; }
 
  private:
-  Spectrum trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Rng& rng, int depth) const;
+  Spectrum trace(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler, int depth) const;
   int maxDepth_;
 };
 

@@ -41,12 +41,13 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         size_t i = y * W + x;
         CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
         Rng& rng = eye.rng;
+        Sampler sampler(rng);
         SampledWavelengths& lambda = eye.lambda;
         const Ray& ray = eye.ray;
         VisiblePoint vp;
         Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, rng, false);
+          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler, false);
           L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);  // uplifted on a spectral path
         }
         if (ro.spectral) L = spectralToRGB(L, lambda.lambda);

@@ -29,12 +29,13 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         size_t i = y * W + x;
         CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
         Rng& rng = eye.rng;
+        Sampler sampler(rng);
         SampledWavelengths& lambda = eye.lambda;
         const Ray& ray = eye.ray;
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, rng, false);
+          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler, false);
           if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
         }
         finishSpectralVisiblePoint(lambda, &vp, &L);

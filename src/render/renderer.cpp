@@ -80,7 +80,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         if (budget.expired()) return;
         uint64_t pixel = uint64_t(y) * W + x;
         CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
-        Spectrum L = integrator.Li(path.ray, scene, path.lambda, path.rng);
+        Sampler sampler(path.rng);
+        Spectrum L = integrator.Li(path.ray, scene, path.lambda, sampler);
         if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
         ++count[pixel];
         if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film

@@ -1,0 +1,46 @@
+// Where a path's random numbers come from (--sampler), for every integrator that traces paths
+// sample by sample: the camera paths of the pixel integrators (render/renderer.cpp) and both
+// subpaths of the bidirectional ones.
+//   independent  its own random stream (core/rng.h), draw after draw;
+//   sobol        its first `slots` draws (each a 1D or a 2D sample: the jitter, a light pick, a
+//                direction, a lobe choice, a roulette) are points of Owen-scrambled Sobol'
+//                sequences (core/qmc.h) indexed by the sample (a pixel's sample number, a
+//                light path's iteration), one sequence per (path, draw), so that the samples
+//                of one pixel are stratified draw by draw; later draws are the stream's.
+// Each point is uniform on its own, so an estimator stays unbiased with either; only how the
+// samples of one pixel are spread over the integrand differs.
+#pragma once
+#include <cstdint>
+
+#include "core/qmc.h"
+#include "core/rng.h"
+
+namespace pl {
+
+class Sampler {
+ public:
+  // `key` names the path (its pixel, its light path index; hashed), `index` its sample number.
+  Sampler(Rng& rng, bool sobol, uint64_t key, uint32_t index, int slots)
+      : rng_(rng), sobol_(sobol), key_(key), index_(index), slots_(slots) {}
+  // Independent draws from `rng` alone.
+  explicit Sampler(Rng& rng) : Sampler(rng, false, 0, 0, 0) {}
+
+  float get1D() { return sobol_ && slot_ < slots_ ? next().x : rng_.uniform(); }
+  Vec2 get2D() {
+    if (sobol_ && slot_ < slots_) return next();
+    const float y = rng_.uniform();  // y first: the order GCC gave the two draws as arguments
+    return Vec2(rng_.uniform(), y);
+  }
+  bool sobol() const { return sobol_; }
+
+ private:
+  Vec2 next() { return qmc::sobol2D(index_, key_ ^ (uint64_t(slot_++) * 0x9e3779b97f4a7c15ULL)); }
+  Rng& rng_;
+  bool sobol_;
+  uint64_t key_;
+  uint32_t index_;
+  int slots_;
+  int slot_ = 0;
+};
+
+}  // namespace pl
