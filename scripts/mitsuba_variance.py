@@ -103,7 +103,7 @@ def write_ply(path, positions, normals, faces):
         f.write(tri.tobytes())
 
 
-def mitsuba_scene(gltf, width, max_depth, tmp):
+def mitsuba_scene(gltf, width, max_depth, tmp, sampler="independent"):
     meshes, materials, camera = read_gltf(gltf)
     scene = {"type": "scene"}
     for k, (p, n, i, mat) in enumerate(meshes):
@@ -125,7 +125,7 @@ def mitsuba_scene(gltf, width, max_depth, tmp):
         "type": "perspective", "fov": math.degrees(yfov), "fov_axis": "y",
         "to_world": mi.ScalarTransform4f().look_at(origin=origin, target=[origin[i] + forward[i] for i in range(3)], up=up),
         "film": {"type": "hdrfilm", "width": width, "height": width, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        "sampler": {"type": "independent"}}
+        "sampler": {"type": sampler}}
     scene["integrator"] = {"type": "path", "max_depth": max_depth + 1}
     return scene
 

@@ -110,8 +110,10 @@ TEST_CASE("ExactSum: carries and borrows cross every limb boundary exactly") {
 
 TEST_CASE("slices: any split of a render merges into its bits (path by samples, pppm by passes)") {
   const std::string dir = GltfFixture::dir();
-  SECTION("path tracer, 12 samples as 0:5, 5:6, 6:12, merged in another order") {
-    const std::string common = "render " + kScene + " --integrator path --spp 12 --width 24 -q";
+  SECTION("path tracer, 12 samples as 0:5, 5:6, 6:12, merged in another order - with either sampler") {
+    const std::string sampler = GENERATE(as<std::string>{}, "independent", "sobol");
+    INFO(sampler);
+    const std::string common = "render " + kScene + " --integrator path --spp 12 --width 24 -q --sampler " + sampler;
     REQUIRE(run(common + " -o " + dir + "/whole.exr").code == 0);
     REQUIRE(run(common + " --sample-range 0:5 -o " + dir + "/s0.exr").code == 0);
     REQUIRE(run(common + " --sample-range 5:6 -o " + dir + "/s1.exr").code == 0);

@@ -56,6 +56,9 @@ class PixelIntegrator : public Integrator {
   // Radiance arriving along a camera ray, at the path's wavelengths (RGB unless spectral). A
   // dispersive refraction on the way ends the secondary wavelengths in `lambda`.
   virtual Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const = 0;
+  // --sampler sobol (core/sampler.h): how many of each camera path's draws, the pixel jitter
+  // first, are Owen-scrambled Sobol' points over the pixel's samples; 0: independent draws.
+  virtual int sobolSlots() const { return 0; }
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp

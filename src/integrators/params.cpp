@@ -153,6 +153,14 @@ ParamSpec progressiveRadius() {
   return s;
 }
 
+ParamSpec pixelSampler(int slots) {
+  return choice("sampler",
+                "where each camera path's first " + std::to_string(slots) +
+                    " draws (a 1D or 2D sample each, the pixel jitter first) come from: independent (a random stream) or sobol "
+                    "(Owen-scrambled Sobol' points over the pixel's samples)",
+                "independent", {"independent", "sobol"});
+}
+
 }  // namespace params
 
 }  // namespace pl

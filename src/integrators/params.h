@@ -93,6 +93,9 @@ ParamSpec passes();
 ParamSpec photonsPerPass();
 ParamSpec alpha();
 ParamSpec progressiveRadius();
+// --sampler for the camera-side integrators: independent, or Sobol' points for each camera
+// path's first `slots` draws (core/sampler.h).
+ParamSpec pixelSampler(int slots);
 }  // namespace params
 
 }  // namespace pl

@@ -63,7 +63,9 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
 
 static const IntegratorRegistration registration({
     "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
-    {params::spp(), params::maxDepth()},
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PathIntegrator>(int(p.integer("max_depth"))); }});
+    {params::spp(), params::maxDepth(), params::pixelSampler(PathIntegrator::kSobolSlots)},
+    [](const ParamSet& p, const RenderOptions&) {
+      return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol");
+    }});
 
 }  // namespace pl

@@ -70,6 +70,10 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   // checkpoints count from the slice's start.
   const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
   const int first = range.first, target = range.end, step = range.step;
+  // --sampler sobol: a pixel's samples are the points of its own scrambled sequences, indexed by
+  // the sample number (so that slices of a render draw the same points as the whole).
+  const int sobolSlots = integrator.sobolSlots();
+  const uint64_t sobolKey = mix64(o.seed ^ 0x736f626f6c706978ULL);
   Progress progress(o, range.count());
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
@@ -80,7 +84,11 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         if (budget.expired()) return;
         uint64_t pixel = uint64_t(y) * W + x;
         CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
-        Sampler sampler(path.rng);
+        Sampler sampler(path.rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
+        if (sampler.sobol()) {  // the jitter is the sampler's first draw
+          const Vec2 jitter = sampler.get2D();
+          path.ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, W, H);
+        }
         Spectrum L = integrator.Li(path.ray, scene, path.lambda, sampler);
         if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
         ++count[pixel];
