@@ -44,3 +44,18 @@ def test_relmse_is_zero_for_the_same_image_and_positive_for_another_seed(tmp_pat
 def test_a_failed_render_exits_with_photonlab_s_message(tmp_path):
     with pytest.raises(SystemExit, match="missing.gltf"):
         mt.photonlab_render(PHOTONLAB, str(tmp_path / "missing.gltf"), 16, str(tmp_path / "c.exr"), spp=1)
+
+
+@needs_build
+def test_mitsuba_samplers_photonlab_half_scores_each_sampler_and_seed(tmp_path):
+    # scripts/mitsuba_samplers.py's photonlab rows, without Mitsuba: one row per (seed, sampler),
+    # each the relMSE of that render against the reference; the reference scores 0 against
+    # itself, and a render of another seed and sampler does not.
+    import mitsuba_samplers as ms
+    ref = str(tmp_path / "ref.exr")
+    mt.photonlab_render(PHOTONLAB, BOX, 16, ref, spp=2, seed=1)
+    rows = ms.photonlab_rows(PHOTONLAB, BOX, 16, 2, [1, 2], ["independent", "sobol"], ref, str(tmp_path))
+    assert [(r[0], r[1], r[2]) for r in rows] == [("photonlab", "independent", 1), ("photonlab", "sobol", 1),
+                                                   ("photonlab", "independent", 2), ("photonlab", "sobol", 2)]
+    assert rows[0][3] == 0  # independent, seed 1: the reference itself
+    assert all(r[3] > 0 for r in rows[1:])
