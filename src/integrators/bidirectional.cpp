@@ -395,8 +395,7 @@ class VertexConnectionMerging::Tracer {
     const float wCamera = Mis(emissionRatio) * (misVmAt(1) + path.dVCM + path.dVC * Mis(bsdfRevPdf));
     const int t = path.length + 1;
     const float w = weigh(1, t, 1.0f / (wLight + 1.0f + wCamera));
-    if (w == 0) return;
-    if (!scene_.visible(hit, ls.wi, ls.distance)) return;
+    if (w == 0 || !scene_.visible(hit, ls.wi, ls.distance)) return;
     sink.add(strategyIndex(1, t), path.beta * f * ls.Li * (w * std::abs(wiLocal.z) / (pick * ls.pdf)));
   }
 
@@ -414,7 +413,8 @@ class VertexConnectionMerging::Tracer {
     if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !hit.bsdf->transmits()) return;
     if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0 && !v.hit.bsdf->transmits()) return;
     const Vec3 wiLocal = hit.shading.toLocal(d);
-    const Vec3 &lightWo = v.woLocal, lightWi = v.hit.shading.toLocal(-d);
+    const Vec3& lightWo = v.woLocal;
+    const Vec3 lightWi = v.hit.shading.toLocal(-d);
     if (!sidesAgree(hit, wo, d, woLocal, wiLocal) || !sidesAgree(v.hit, v.wo, -d, lightWo, lightWi)) return;
     const BSDFContext cc = bsdfContext(hit, path.lambda);
     Spectrum fCamera = hit.bsdf->eval(woLocal, wiLocal, cc);
@@ -681,10 +681,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
         const size_t j = pixel % chunkSize;
         const LightVertex* first = chunk.data() + (j == 0 ? 0 : ends[j - 1]);
         Sampler sampler(c.rng, o_.sobol, mix64(cameraStream ^ pixel), uint32_t(iteration), kSamplerSlots);
-        if (o_.sobol) {  // the jitter is the sampler's first draw
-          const Vec2 jitter = sampler.get2D();
-          c.ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, W, H);
-        }
+        jitterFromSampler(scene, x, int(y), W, H, sampler, &c.ray);
         tracer.traceCameraPath(sampler, c.ray, c.lambda, first, chunk.data() + ends[j], o_.merge ? &grid : nullptr, sink);
         auto toRGB = [&](const Spectrum& v) { return o.spectral ? spectralToRGB(v, c.lambda.lambda) : v; };
         Spectrum rgb = toRGB(sink.total);
@@ -804,10 +801,7 @@ ParamSpec directMerges() {
 }
 
 ParamSpec sampler() {
-  return params::choice("sampler",
-                        "where each subpath's first 8 draws (a 1D or 2D sample each) come from: independent (a random stream) or sobol "
-                        "(Owen-scrambled Sobol' points over the iterations, per pixel and per light path)",
-                        "independent", {"independent", "sobol"});
+  return params::sampler(kSamplerSlots, "subpath", "the iterations, per pixel and per light path");
 }
 
 ParamSpec strategyAov() {

@@ -15,7 +15,7 @@ Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelen
 
 static const IntegratorRegistration registration({
     "direct", "emission seen directly plus one shadow-ray light sample at the first hit (local illumination)",
-    {params::spp(), params::pixelSampler(DirectIntegrator::kSobolSlots)},
+    {params::spp(), params::sampler(DirectIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
     [](const ParamSet& p, const RenderOptions&) { return std::make_unique<DirectIntegrator>(p.choice("sampler") == "sobol"); }});
 
 }  // namespace pl

@@ -153,11 +153,11 @@ ParamSpec progressiveRadius() {
   return s;
 }
 
-ParamSpec pixelSampler(int slots) {
+ParamSpec sampler(int slots, const std::string& paths, const std::string& over) {
   return choice("sampler",
-                "where each camera path's first " + std::to_string(slots) +
-                    " draws (a 1D or 2D sample each, the pixel jitter first) come from: independent (a random stream) or sobol "
-                    "(Owen-scrambled Sobol' points over the pixel's samples)",
+                "where each " + paths + "'s first " + std::to_string(slots) +
+                    " draws (a 1D or 2D sample each" + (paths == "camera path" ? ", the pixel jitter first" : "") +
+                    ") come from: independent (a random stream) or sobol (Owen-scrambled Sobol' points over " + over + ")",
                 "independent", {"independent", "sobol"});
 }
 

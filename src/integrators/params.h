@@ -93,9 +93,9 @@ ParamSpec passes();
 ParamSpec photonsPerPass();
 ParamSpec alpha();
 ParamSpec progressiveRadius();
-// --sampler for the camera-side integrators: independent, or Sobol' points for each camera
-// path's first `slots` draws (core/sampler.h).
-ParamSpec pixelSampler(int slots);
+// --sampler (core/sampler.h): independent, or Sobol' points for the first `slots` draws of each
+// path, `paths` and `over` saying which paths and over what their points are indexed.
+ParamSpec sampler(int slots, const std::string& paths, const std::string& over);
 }  // namespace params
 
 }  // namespace pl

@@ -63,7 +63,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
 
 static const IntegratorRegistration registration({
     "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
-    {params::spp(), params::maxDepth(), params::pixelSampler(PathIntegrator::kSobolSlots)},
+    {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
     [](const ParamSet& p, const RenderOptions&) {
       return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol");
     }});

@@ -4,6 +4,7 @@
 // (render/renderer.cpp) and the progressive eye passes (progressive/progressive.h).
 #pragma once
 #include "core/rng.h"
+#include "core/sampler.h"
 #include "render/render_options.h"
 #include "scene/scene.h"
 #include "spectral/spectral.h"
@@ -37,6 +38,15 @@ inline CameraPath beginCameraPath(const Scene& scene, const RenderOptions& image
   c.ray = scene.camera().generateRay(x + jx, y + jy, image.width, image.height);
   if (image.spectral) c.lambda = SampledWavelengths::sample(c.rng.uniform());
   return c;
+}
+
+// --sampler sobol: the pixel jitter is the sampler's first draw, so the ray beginCameraPath made
+// from the stream's jitter is made again from it (one generateRay per path, against keeping a
+// second start for the Sobol' case). With independent draws, nothing changes.
+inline void jitterFromSampler(const Scene& scene, int x, int y, int width, int height, Sampler& sampler, Ray* ray) {
+  if (!sampler.sobol()) return;
+  const Vec2 jitter = sampler.get2D();
+  *ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, width, height);
 }
 
 }  // namespace pl

@@ -85,10 +85,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         uint64_t pixel = uint64_t(y) * W + x;
         CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
         Sampler sampler(path.rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
-        if (sampler.sobol()) {  // the jitter is the sampler's first draw
-          const Vec2 jitter = sampler.get2D();
-          path.ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, W, H);
-        }
+        jitterFromSampler(scene, x, int(y), W, H, sampler, &path.ray);
         Spectrum L = integrator.Li(path.ray, scene, path.lambda, sampler);
         if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
         ++count[pixel];
