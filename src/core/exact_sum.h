@@ -66,17 +66,20 @@ class ExactSum {
     // that to double rounds exactly as the whole number would (64 > 53 + 2 bits).
     const int lead = 63 - __builtin_clzll(v[top]);
     const int high = top * 64 + lead;  // index of the highest set bit
-    uint64_t window = 0;
+    const int low = high - 63;         // index of the window's lowest bit
+    uint64_t window;
     bool sticky = false;
-    const int low = high - 63;  // index of the window's lowest bit
-    for (int i = 0; i < 64; ++i) window |= uint64_t(bit(v, low + i)) << i;
-    for (int i = 0; i < low; ++i)
-      if (bit(v, i)) {
-        sticky = true;
-        break;
-      }
+    if (low <= 0) {  // the whole number fits in the window (then top = 0)
+      window = v[0] << -low;
+    } else {
+      const int limb = low / 64, offset = low % 64;
+      window = offset ? v[limb] >> offset | v[limb + 1] << (64 - offset) : v[limb];
+      sticky = offset && (v[limb] << (64 - offset)) != 0;
+      for (int i = 0; i < limb; ++i) sticky |= v[i] != 0;
+    }
     if (sticky) window |= 1;  // below the 11 bits double drops: only breaks ties, as it should
-    const double r = std::ldexp(double(window), low - 149);
+    // × 2^(low − 149), exactly: the exponent lies in [−212, 171], a normal double's range.
+    const double r = double(window) * powerOfTwo(low - 149);
     return negative ? -r : r;
   }
 
@@ -85,7 +88,12 @@ class ExactSum {
   bool operator==(const ExactSum& o) const { return std::memcmp(limb_, o.limb_, sizeof limb_) == 0; }
 
  private:
-  static bool bit(const uint64_t* v, int i) { return i >= 0 && ((v[i / 64] >> (i % 64)) & 1); }
+  static double powerOfTwo(int e) {  // 2^e for a normal double's exponent
+    const uint64_t bits = uint64_t(e + 1023) << 52;
+    double d;
+    std::memcpy(&d, &bits, 8);
+    return d;
+  }
   static void negate(uint64_t* v) {
     uint64_t carry = 1;
     for (int i = 0; i < kLimbs; ++i) {
