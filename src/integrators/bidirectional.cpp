@@ -219,7 +219,7 @@ class VertexConnectionMerging::Tracer {
                         const SampledWavelengths& lambda, SplatSink& splat) const {
     CameraSample cs;
     const Camera& camera = scene_.camera();
-    if (!camera.sampleWi(e.ray.o, it_.width, it_.height, &cs)) return;
+    if (!camera.sampleWi(e.ray.o, it_.width, it_.height, scene_.cameraTanHalf(), &cs)) return;
     Spectrum Le = light.L(e.ray.o, cs.wi, lambda);
     if (isBlack(Le)) return;
     const float cosY = std::abs(glm::dot(e.n, cs.wi));
@@ -238,7 +238,7 @@ class VertexConnectionMerging::Tracer {
   void connectToCamera(const LightVertex& v, const SampledWavelengths& lambda, SplatSink& splat) const {
     const SurfaceHit& hit = v.hit;
     CameraSample cs;
-    if (!scene_.camera().sampleWi(hit.p, it_.width, it_.height, &cs)) return;
+    if (!scene_.camera().sampleWi(hit.p, it_.width, it_.height, scene_.cameraTanHalf(), &cs)) return;
     const Vec3& woLocal = v.woLocal;
     const Vec3 wiLocal = hit.shading.toLocal(cs.wi);
     if (!sidesAgree(hit, v.wo, cs.wi, woLocal, wiLocal)) return;
@@ -267,7 +267,7 @@ class VertexConnectionMerging::Tracer {
     // z₁'s density, per pixel: W·H · pdf_dir (the camera's is normalised over the image); its
     // ratio to the N light paths that could splat it (eq. 31).
     float pdfPos, pdfDir;
-    scene_.camera().pdfWe(path.ray.d, it_.width, it_.height, &pdfPos, &pdfDir);
+    scene_.camera().pdfWe(path.ray.d, it_.width, it_.height, scene_.cameraTanHalf(), &pdfPos, &pdfDir);
     path.dVCM = Mis(it_.lightPaths / (it_.pixels * pdfDir));
     for (path.length = 1;; ++path.length) {
       SurfaceHit hit;

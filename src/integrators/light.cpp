@@ -7,7 +7,7 @@ namespace pl {
 void LightTracer::connectToCamera(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, const Spectrum& beta,
                                   LightPathContext& path) const {
   CameraSample cs;
-  if (!scene.camera().sampleWi(hit.p, path.width, path.height, &cs)) return;
+  if (!scene.camera().sampleWi(hit.p, path.width, path.height, scene.cameraTanHalf(), &cs)) return;
   // Reflected towards the camera, or transmitted through a BSDF that transmits, by the geometric
   // normal as well as the shading one: the shadow rays' rule.
   Vec3 woLocal = hit.shading.toLocal(wo), wiLocal = hit.shading.toLocal(cs.wi);
@@ -36,7 +36,7 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
   // path shows the camera the sky itself (the path tracer's camera rays do).
   if (!light.isDelta() && !light.isInfinite()) {
     CameraSample cs;
-    if (scene.camera().sampleWi(e.ray.o, path.width, path.height, &cs)) {
+    if (scene.camera().sampleWi(e.ray.o, path.width, path.height, scene.cameraTanHalf(), &cs)) {
       SurfaceHit y;
       y.p = e.ray.o;
       y.ng = e.n;

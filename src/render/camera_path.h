@@ -35,7 +35,7 @@ inline CameraPath beginCameraPath(const Scene& scene, const RenderOptions& image
     jy = c.rng.uniform();
     jx = c.rng.uniform();
   }
-  c.ray = scene.camera().generateRay(x + jx, y + jy, image.width, image.height);
+  c.ray = scene.cameraRay(x + jx, y + jy, image.width, image.height);
   if (image.spectral) c.lambda = SampledWavelengths::sample(c.rng.uniform());
   return c;
 }
@@ -46,7 +46,7 @@ inline CameraPath beginCameraPath(const Scene& scene, const RenderOptions& image
 inline void jitterFromSampler(const Scene& scene, int x, int y, int width, int height, Sampler& sampler, Ray* ray) {
   if (!sampler.sobol()) return;
   const Vec2 jitter = sampler.get2D();
-  *ray = scene.camera().generateRay(float(x) + jitter.x, float(y) + jitter.y, width, height);
+  *ray = scene.cameraRay(float(x) + jitter.x, float(y) + jitter.y, width, height);
 }
 
 }  // namespace pl

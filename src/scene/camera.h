@@ -30,7 +30,11 @@ struct Camera {
 
   // Ray through film position (x, y) in pixels, (0, 0) the top-left corner of the image.
   Ray generateRay(float x, float y, int width, int height) const {
-    float tanHalf = std::tan(0.5f * yfov);
+    return generateRay(x, y, width, height, std::tan(0.5f * yfov));
+  }
+  // The same with tan(yfov/2) computed once by the caller (one tan per camera ray was 1% of a
+  // path-traced sample).
+  Ray generateRay(float x, float y, int width, int height, float tanHalf) const {
     float aspect = float(width) / float(height);
     float sx = (2.0f * x / width - 1.0f) * tanHalf * aspect;
     float sy = (1.0f - 2.0f * y / height) * tanHalf;  // row 0 at the top
@@ -59,24 +63,30 @@ struct Camera {
   // Densities with which generateRay() at a uniform film position emits direction d: the
   // position is the pinhole (a delta: 1), the direction 1/(A cos³θ) on the film.
   void pdfWe(const Vec3& d, int width, int height, float* pdfPos, float* pdfDir) const {
+    pdfWe(d, width, height, std::tan(0.5f * yfov), pdfPos, pdfDir);
+  }
+  void pdfWe(const Vec3& d, int width, int height, float tanHalf, float* pdfPos, float* pdfDir) const {
     *pdfPos = 1.0f;
     Vec2 r;
     float c = glm::dot(d, forward);
-    *pdfDir = raster(d, width, height, &r) ? 1.0f / (filmArea(width, height) * c * c * c) : 0.0f;
+    *pdfDir = raster(d, width, height, tanHalf, &r) ? 1.0f / (filmArea(width, height, tanHalf) * c * c * c) : 0.0f;
   }
 
   // The connection from scene point p to the pinhole: the pixel it lands in, We, and the
   // density d²/cosθ that turns We into a contribution β f |cos| We / pdf, with pdfWe's direction
-  // density beside them (bidirectional MIS needs both). False when p is not in view. One tan for
-  // all of them: a light path makes one such connection per vertex.
+  // density beside them (bidirectional MIS needs both). False when p is not in view. A light
+  // path makes one such connection per vertex: its callers pass tan(yfov/2) (the overload below).
   bool sampleWi(const Vec3& p, int width, int height, CameraSample* s) const {
+    return sampleWi(p, width, height, std::tan(0.5f * yfov), s);
+  }
+  // pdfWe and sampleWi with tan(yfov/2) computed once by the caller (Scene::cameraTanHalf).
+  bool sampleWi(const Vec3& p, int width, int height, float tanHalf, CameraSample* s) const {
     Vec3 toCamera = position - p;
     float d2 = glm::dot(toCamera, toCamera);
     if (!(d2 > 0)) return false;
     s->distance = std::sqrt(d2);
     s->wi = toCamera / s->distance;
     Vec3 d = -s->wi;
-    const float tanHalf = std::tan(0.5f * yfov);
     if (!raster(d, width, height, tanHalf, &s->raster)) return false;
     float c = glm::dot(d, forward);
     const float area = filmArea(width, height, tanHalf);

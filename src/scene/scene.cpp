@@ -315,8 +315,21 @@ void Scene::commit() {
   epsilon_ = std::max(1e-6f, kRayEpsilonScale * std::max(1.0f, 2.0f * bounds_.radius()));
 
   compact_ = bvhLayout_ == BvhLayout::Compact || (bvhLayout_ == BvhLayout::Auto && storedTriangleCount() >= kCompactTriangles);
-  if (compact_)
-    for (Prototype& proto : prototypes_) pairIntoQuads(proto);
+  for (Prototype& proto : prototypes_) {
+    if (compact_) {
+      pairIntoQuads(proto);
+      continue;
+    }
+    // The default layout keeps each triangle's unit normal (12 bytes a triangle): computing it
+    // per hit put a square root and three divisions on every ray's critical path.
+    proto.faceNormals.resize(proto.triangleCount());
+    for (const Part& part : proto.parts)
+      for (uint32_t t = 0; t < part.triangleCount; ++t) {
+        const std::array<uint32_t, 3> idx = corners(proto, part, t);
+        const Vec3* P = proto.positions.data() + part.firstVertex;
+        proto.faceNormals[part.firstTriangle + t] = faceNormal(P[idx[0]], P[idx[1]], P[idx[2]]);
+      }
+  }
 
   for (Instance& inst : instances_) createAreaLights(inst);
   for (const Material& m : materials_) absorbing_ |= m.absorbs();
@@ -410,7 +423,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   uint32_t primID = rh.hit.primID;
   float b1 = rh.hit.u, b2 = rh.hit.v;
   triangleOfHit(proto, proto.parts[rh.hit.geomID], &primID, &b1, &b2);
-  *hit = surfaceOf(inst, rh.hit.geomID, primID, b1, b2);
+  surfaceOf(inst, rh.hit.geomID, primID, b1, b2, hit);
   hit->t = rh.ray.tfar;
   return true;
 }
@@ -623,7 +636,7 @@ void Scene::alphaFilter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
-SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID, float b1, float b2) const {
+void Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID, float b1, float b2, SurfaceHit* out) const {
   const Prototype& proto = prototypes_[inst.prototype];
   const Part& part = proto.parts[partIndex];
   const uint32_t triangle = part.firstTriangle + primID;
@@ -632,11 +645,10 @@ SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t p
   const Vec3 &a = P[idx[0]], &b = P[idx[1]], &c = P[idx[2]];
   const bool placed = inst.prototype != 0;  // an instance: object space to world space
   float b0 = 1.0f - b1 - b2;
-  SurfaceHit hit;
+  SurfaceHit& hit = *out;  // written in place: a SurfaceHit is 124 bytes, one per ray
+  hit = SurfaceHit();
   hit.p = b0 * a + b1 * b + b2 * c;
-  Vec3 n = glm::cross(b - a, c - a);
-  float len = glm::length(n);
-  hit.ng = len > 0 ? n / len : Vec3(0, 0, 1);
+  hit.ng = proto.faceNormals.empty() ? faceNormal(a, b, c) : proto.faceNormals[triangle];
   // Normals take the inverse transpose; a mirroring instance's front face stays the object's
   // counter-clockwise one (the loader swaps world-space triangles' corners for the same reason).
   if (placed) {
@@ -687,7 +699,6 @@ SurfaceHit Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t p
   const std::vector<int32_t>& lights = inst.lights[partIndex];
   hit.lightIndex = lights.empty() ? -1 : lights[primID];
   hit.light = hit.lightIndex >= 0 ? static_cast<const AreaLight*>(lights_[size_t(hit.lightIndex)].get()) : nullptr;
-  return hit;
 }
 
 void Scene::locate(uint32_t primitive, uint32_t* instance, uint32_t* part, uint32_t* primID) const {
@@ -709,7 +720,10 @@ SurfaceHit Scene::surfaceAt(uint32_t primitive, float b1, float b2) const {
   uint32_t instance, part, primID;
   locate(primitive, &instance, &part, &primID);
   const Instance& inst = instances_[instance];
-  return inst.mirrors ? surfaceOf(inst, part, primID, b2, b1) : surfaceOf(inst, part, primID, b1, b2);
+  SurfaceHit hit;
+  if (inst.mirrors) surfaceOf(inst, part, primID, b2, b1, &hit);
+  else surfaceOf(inst, part, primID, b1, b2, &hit);
+  return hit;
 }
 
 std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {

@@ -142,7 +142,16 @@ class Scene {
 
   // At most one environment (EnvironmentLight) among them.
   void addLight(std::unique_ptr<Light> light);
-  void setCamera(const Camera& camera) { camera_ = camera; hasCamera_ = true; }
+  void setCamera(const Camera& camera) {
+    camera_ = camera;
+    cameraTanHalf_ = std::tan(0.5f * camera.yfov);
+    hasCamera_ = true;
+  }
+  float cameraTanHalf() const { return cameraTanHalf_; }  // tan(yfov/2), for Camera's tanHalf overloads
+  // The camera's ray through film position (x, y) in pixels (Camera::generateRay).
+  Ray cameraRay(float x, float y, int width, int height) const {
+    return camera_.generateRay(x, y, width, height, cameraTanHalf_);
+  }
   // A camera the file places (a node with a perspective camera), named as `info` lists it.
   struct FileCamera {
     std::string name;  // "nodes[3] 'Front', cameras[1]"
@@ -247,6 +256,7 @@ class Scene {
     // (a, b, c, c). Half the primitives: the BVH takes about half the memory.
     std::vector<uint32_t> quads;
     bool paired = false;
+    std::vector<Vec3> faceNormals;  // per triangle, unit (faceNormal); empty in the compact layout
     std::vector<Part> parts;
     Bounds bounds;
     RTCScene rtc = nullptr;  // instanced prototypes' own Embree scene
@@ -282,7 +292,13 @@ class Scene {
   // The compact layout's storage: each part's triangles paired across shared edges into quads.
   static void pairIntoQuads(Prototype& proto);
   // The surface on triangle primID of the part, placed by the instance.
-  SurfaceHit surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2) const;
+  // Triangle (a, b, c)'s unit normal, on the side from which the corners run counter-clockwise.
+  static Vec3 faceNormal(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 n = glm::cross(b - a, c - a);
+    const float len = glm::length(n);
+    return len > 0 ? n / len : Vec3(0, 0, 1);
+  }
+  void surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2, SurfaceHit* hit) const;
   // Triangle `primitive`'s instance, part and triangle within the part.
   void locate(uint32_t primitive, uint32_t* instance, uint32_t* part, uint32_t* primID) const;
   RTCScene buildEmbreeScene(uint32_t prototype, RTCScene into);
@@ -301,6 +317,7 @@ class Scene {
   const EnvironmentLight* environment_ = nullptr;
   int environmentIndex_ = -1;
   Camera camera_;
+  float cameraTanHalf_ = std::tan(0.5f * Camera().yfov);  // tan(yfov/2) of camera_
   std::vector<FileCamera> fileCameras_;
   bool hasCamera_ = false, committed_ = false, meshOpen_ = false;
   uint32_t lastPrototype_ = 0;  // of the open mesh
