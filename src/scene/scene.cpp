@@ -645,7 +645,7 @@ void Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID,
   const Vec3 &a = P[idx[0]], &b = P[idx[1]], &c = P[idx[2]];
   const bool placed = inst.prototype != 0;  // an instance: object space to world space
   float b0 = 1.0f - b1 - b2;
-  SurfaceHit& hit = *out;  // written in place: a SurfaceHit is 124 bytes, one per ray
+  SurfaceHit& hit = *out;  // written in place: a SurfaceHit is 128 bytes, one per ray
   hit = SurfaceHit();
   hit.p = b0 * a + b1 * b + b2 * c;
   hit.ng = proto.faceNormals.empty() ? faceNormal(a, b, c) : proto.faceNormals[triangle];
