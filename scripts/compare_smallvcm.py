@@ -154,7 +154,12 @@ def run_tail(a, binary, pairs):
 def read_rgb(path):
     import numpy as np
     import OpenImageIO as oiio
-    pixels = oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
+    # Uncached (ImageInput, not ImageBuf): --tail renders to one file name again and again, and
+    # OpenImageIO's shared image cache returned the file's previous pixels for 6 reads in 10.
+    inp = oiio.ImageInput.open(path)
+    pixels = inp.read_image(oiio.FLOAT) if inp is not None else None
+    if inp is not None:
+        inp.close()
     if pixels is None or pixels.size == 0:
         sys.exit("compare_smallvcm: %s: cannot read the image" % path)
     return np.asarray(pixels, dtype=np.float64)[..., :3]

@@ -65,10 +65,14 @@ def read_exr(path):
     import OpenImageIO as oiio  # Debian's python3-openimageio
     if not os.path.isfile(path):
         raise ResultsError(f"{path}: no such image")
-    buf = oiio.ImageBuf(path)
-    if buf.has_error:
-        raise ResultsError(f"{path}: {buf.geterror()}")
-    pixels = buf.get_pixels(oiio.FLOAT)
+    # ImageInput, not ImageBuf: ImageBuf reads through OpenImageIO's shared image cache, which
+    # returns a file's old pixels when it was rewritten within the same second (a script that
+    # renders to one name again and again read a stale image 6 times in 10).
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise ResultsError(f"{path}: {oiio.geterror()}")
+    pixels = inp.read_image(oiio.FLOAT)
+    inp.close()
     if pixels is None or pixels.ndim != 3 or pixels.shape[2] < 3:
         raise ResultsError(f"{path}: not an RGB image")
     return np.asarray(pixels[:, :, :3], dtype=np.float64)
@@ -186,8 +190,11 @@ def read_image_metadata(path):
     import OpenImageIO as oiio
     if not os.path.isfile(path):
         return {}
-    buf = oiio.ImageBuf(path)
-    spec = buf.spec()
+    inp = oiio.ImageInput.open(path)  # uncached, as read_exr
+    if inp is None:
+        return {}
+    spec = inp.spec()
+    inp.close()
     return {a.name[len("photonlab:"):]: str(a.value) for a in spec.extra_attribs if a.name.startswith("photonlab:")}
 
 

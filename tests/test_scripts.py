@@ -358,6 +358,24 @@ def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulate
     assert row.startswith("| point | photonlab | `bdpt` | 200 | 0.5000 | 2.0 ± 1.0 | 0.5 ± 0.5 | 0.0 ± 0.0 |")
 
 
+def test_image_readers_see_a_file_rewritten_under_the_same_name(tmp_path):
+    # compare_smallvcm.py --tail renders every iteration to one file name; OpenImageIO's shared
+    # image cache (behind ImageBuf) returned the previous pixels of a file rewritten within the
+    # same second. Each reader must see every version of the file.
+    import compare_smallvcm as cs
+    for name in ("same.exr", "same.hdr"):
+        path = str(tmp_path / name)
+        for k in range(5):
+            img = np.full((24, 32, 3), float(k + 1), dtype=np.float32)
+            out = oiio.ImageOutput.create(path)
+            out.open(path, oiio.ImageSpec(32, 24, 3, oiio.FLOAT))
+            out.write_image(img)
+            out.close()
+            assert cs.read_rgb(path).mean() == pytest.approx(k + 1, rel=0.01), (name, k)
+            if name.endswith(".exr"):
+                assert er.read_exr(path).mean() == pytest.approx(k + 1), k
+
+
 def test_compare_smallvcm_trimmed_relmse_leaves_out_the_worst_pixels(tmp_path):
     # 100 pixels: 98 off by 10% of a reference of 1 (relMSE 0.01/1.01 each), one off by 1 (1/1.01)
     # and one firefly of 1000. The best 99% keep the 98 and the one off by 1:
