@@ -152,17 +152,13 @@ def run_tail(a, binary, pairs):
 
 
 def read_rgb(path):
-    import numpy as np
-    import OpenImageIO as oiio
-    # Uncached (ImageInput, not ImageBuf): --tail renders to one file name again and again, and
-    # OpenImageIO's shared image cache returned the file's previous pixels for 6 reads in 10.
-    inp = oiio.ImageInput.open(path)
-    pixels = inp.read_image(oiio.FLOAT) if inp is not None else None
-    if inp is not None:
-        inp.close()
-    if pixels is None or pixels.size == 0:
-        sys.exit("compare_smallvcm: %s: cannot read the image" % path)
-    return np.asarray(pixels, dtype=np.float64)[..., :3]
+    """Linear RGB of an EXR or HDR image, read uncached (experiment_results.read_exr)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import experiment_results
+    try:
+        return experiment_results.read_exr(path)
+    except experiment_results.ResultsError as e:
+        sys.exit("compare_smallvcm: %s" % e)
 
 
 def trimmed_relmse(image, reference, keep=0.99):

@@ -61,7 +61,7 @@ def read_config(results_dir):
 
 
 def read_exr(path):
-    """Linear RGB float image (H, W, 3)."""
+    """Linear RGB float image (H, W, 3), from an EXR (or any format OpenImageIO reads: HDR)."""
     import OpenImageIO as oiio  # Debian's python3-openimageio
     if not os.path.isfile(path):
         raise ResultsError(f"{path}: no such image")

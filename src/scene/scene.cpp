@@ -323,12 +323,13 @@ void Scene::commit() {
     // The default layout keeps each triangle's unit normal (12 bytes a triangle): computing it
     // per hit put a square root and three divisions on every ray's critical path.
     proto.faceNormals.resize(proto.triangleCount());
-    for (const Part& part : proto.parts)
+    for (const Part& part : proto.parts) {
+      const Vec3* P = proto.positions.data() + part.firstVertex;
       for (uint32_t t = 0; t < part.triangleCount; ++t) {
         const std::array<uint32_t, 3> idx = corners(proto, part, t);
-        const Vec3* P = proto.positions.data() + part.firstVertex;
         proto.faceNormals[part.firstTriangle + t] = faceNormal(P[idx[0]], P[idx[1]], P[idx[2]]);
       }
+    }
   }
 
   for (Instance& inst : instances_) createAreaLights(inst);

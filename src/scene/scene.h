@@ -291,13 +291,13 @@ class Scene {
   static void triangleOfHit(const Prototype& proto, const Part& part, uint32_t* primID, float* b1, float* b2);
   // The compact layout's storage: each part's triangles paired across shared edges into quads.
   static void pairIntoQuads(Prototype& proto);
-  // The surface on triangle primID of the part, placed by the instance.
   // Triangle (a, b, c)'s unit normal, on the side from which the corners run counter-clockwise.
   static Vec3 faceNormal(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 n = glm::cross(b - a, c - a);
     const float len = glm::length(n);
     return len > 0 ? n / len : Vec3(0, 0, 1);
   }
+  // The surface on triangle primID of the part, placed by the instance.
   void surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2, SurfaceHit* hit) const;
   // Triangle `primitive`'s instance, part and triangle within the part.
   void locate(uint32_t primitive, uint32_t* instance, uint32_t* part, uint32_t* primID) const;
