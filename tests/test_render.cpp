@@ -259,6 +259,51 @@ TEST_CASE("rendering is bit-identical whatever the thread count") {
   }
 }
 
+namespace {
+// An integrator's pixels handed to it one at a time: PixelIntegrator's own LiPacket, which
+// calls Li per pixel (the path tracer's Li traces its camera ray alone).
+class OneAtATime final : public PixelIntegrator {
+ public:
+  explicit OneAtATime(std::unique_ptr<Integrator> inner) : inner_(std::move(inner)) {}
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override {
+    return pixel().Li(ray, scene, lambda, sampler);
+  }
+  int sobolSlots() const override { return pixel().sobolSlots(); }
+  const char* name() const override { return "one pixel at a time"; }
+
+ private:
+  const PixelIntegrator& pixel() const { return dynamic_cast<const PixelIntegrator&>(*inner_); }
+  std::unique_ptr<Integrator> inner_;
+};
+}  // namespace
+
+TEST_CASE("path tracer: camera rays traced eight at a time (an Embree packet) make the image of one pixel at a time, bit for bit") {
+  // A row of 21 pixels is two packets of eight and one of five. Glass and mirrors, a sky (camera
+  // rays that leave the scene), a prism (spectral paths that drop their secondary wavelengths),
+  // a depth limit.
+  const std::string dir = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/";
+  struct Case {
+    const char* file;
+    bool spectral;
+    int maxDepth;
+    const char* sampler;
+  };
+  for (const Case& c : {Case{"cornell-spheres.gltf", false, 64, "independent"}, Case{"cornell-spheres.gltf", false, 64, "sobol"},
+                        Case{"cornell-spheres.gltf", true, 3, "independent"}, Case{"sky.gltf", false, 64, "independent"},
+                        Case{"prism.gltf", true, 64, "sobol"}}) {
+    INFO(c.file << (c.spectral ? ", spectral" : "") << ", max depth " << c.maxDepth << ", " << c.sampler);
+    auto scene = loadGltf(dir + c.file);
+    RenderOptions o;
+    o.width = 21, o.height = 13, o.spp = 3, o.threads = 2, o.spectral = c.spectral;
+    auto make = [&] { return test::makeWith("path", {{"max_depth", c.maxDepth}}, o, {{"sampler", c.sampler}}); };
+    auto packets = make();
+    OneAtATime single(make());
+    const ImageRGB a = render(*scene, *packets, o, nullptr), b = render(*scene, single, o, nullptr);
+    CHECK(a.data == b.data);
+    CHECK(mean(a) > 0.0);
+  }
+}
+
 TEST_CASE("width alone keeps the camera's aspect ratio") {
   Camera cam;
   cam.aspectRatio = 4.0f / 3.0f;

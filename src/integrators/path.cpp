@@ -5,18 +5,40 @@
 namespace pl {
 
 Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
+  SurfaceHit hit;
+  const bool found = scene.intersect(cameraRay, &hit);
+  return Li(cameraRay, found ? &hit : nullptr, scene, lambda, sampler);
+}
+
+// A row's neighbouring camera rays start together and run nearly parallel: Embree traces them
+// as one coherent packet, which costs less per ray than one at a time. The paths then go on
+// one by one; the packet's hits are the one-ray query's bit for bit, so the image is the same.
+void PathIntegrator::LiPacket(CameraSample* samples, int n, const Scene& scene) const {
+  Ray rays[Scene::kPacket];
+  bool active[Scene::kPacket] = {}, found[Scene::kPacket];
+  SurfaceHit hits[Scene::kPacket];
+  for (int k = 0; k < n; ++k) rays[k] = samples[k].ray, active[k] = true;
+  scene.intersect(rays, active, true, hits, found);
+  for (int k = 0; k < n; ++k)
+    samples[k].L = Li(rays[k], found[k] ? &hits[k] : nullptr, scene, *samples[k].lambda, *samples[k].sampler);
+}
+
+Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, const Scene& scene, SampledWavelengths& lambda,
+                            Sampler& sampler) const {
   Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
   float etaScale = 1.0f;          // ∏ η² over refractions (Russian roulette divides it out)
   Ray ray = cameraRay;
   bool specularBounce = true;  // the camera ray counts as "specular": emitters get full weight
   float bsdfPdf = 0.0f;
   Vec3 previousPoint = ray.o;
+  SurfaceHit next;
+  const SurfaceHit* found = firstHit;  // where the ray met the scene (null: it left)
   for (int depth = 0;; ++depth) {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) {
+    if (!found) {
       L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, bsdfPdf);
       break;
     }
+    const SurfaceHit& hit = *found;
     beta *= scene.transmittance(hit, ray.d, lambda);
 
     // Emission found by BSDF sampling; next-event estimation already counted the same light
@@ -57,6 +79,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
       if (q <= 0 || sampler.get1D() >= q) break;
       beta /= q;
     }
+    found = scene.intersect(ray, &next) ? &next : nullptr;
   }
   return L;
 }

@@ -13,6 +13,7 @@ class PathIntegrator final : public PixelIntegrator {
  public:
   explicit PathIntegrator(int maxDepth, bool sobol = false) : maxDepth_(maxDepth), sobol_(sobol) {}
   Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
+  void LiPacket(CameraSample* samples, int n, const Scene& scene) const override;
   const char* name() const override { return "path"; }
   int sobolSlots() const override { return sobol_ ? kSobolSlots : 0; }
   // --sampler sobol's draws per path: the jitter, then four per non-specular vertex (light pick,
@@ -22,6 +23,8 @@ class PathIntegrator final : public PixelIntegrator {
   static constexpr int kSobolSlots = 8;
 
  private:
+  // The path from its camera ray's first hit (null: the ray left the scene).
+  Spectrum Li(const Ray& ray, const SurfaceHit* firstHit, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const;
   int maxDepth_;
   bool sobol_;
 };

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "core/budget.h"
 #include "core/interrupt.h"
@@ -78,24 +79,39 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
-    // so the sums are identical whatever the thread count. The budget is polled per pixel.
+    // so the sums are identical whatever the thread count. Pixels go to the integrator kPacket
+    // at a time (neighbours in the row), for integrators that trace their rays together; each
+    // keeps its own stream and sampler. The budget is polled per such group.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
-      for (int x = 0; x < W; ++x) {
+      constexpr int kPacket = Scene::kPacket;
+      for (int x0 = 0; x0 < W; x0 += kPacket) {
         if (budget.expired()) return;
-        uint64_t pixel = uint64_t(y) * W + x;
-        CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
-        Sampler sampler(path.rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
-        jitterFromSampler(scene, x, int(y), W, H, sampler, &path.ray);
-        Spectrum L = integrator.Li(path.ray, scene, path.lambda, sampler);
-        if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
-        ++count[pixel];
-        if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
-          ++nonFinite[y];
-          if (o.nanAov) ++nanCount[pixel];
-          continue;
+        const int n = std::min(kPacket, W - x0);
+        CameraPath paths[kPacket];
+        std::optional<Sampler> samplers[kPacket];
+        PixelIntegrator::CameraSample samples[kPacket];
+        for (int k = 0; k < n; ++k) {
+          const int x = x0 + k;
+          const uint64_t pixel = uint64_t(y) * W + x;
+          paths[k] = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
+          Sampler& sampler = samplers[k].emplace(paths[k].rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
+          jitterFromSampler(scene, x, int(y), W, H, sampler, &paths[k].ray);
+          samples[k] = {paths[k].ray, &paths[k].lambda, &sampler};
         }
-        ExactSum* p = &sum[pixel * 3];
-        p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
+        integrator.LiPacket(samples, n, scene);
+        for (int k = 0; k < n; ++k) {
+          const uint64_t pixel = uint64_t(y) * W + x0 + k;
+          Spectrum L = samples[k].L;
+          if (o.spectral) L = spectralToRGB(L, paths[k].lambda.lambda);
+          ++count[pixel];
+          if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
+            ++nonFinite[y];
+            if (o.nanAov) ++nanCount[pixel];
+            continue;
+          }
+          ExactSum* p = &sum[pixel * 3];
+          p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
+        }
       }
     });
     const int taken = (s - first) / step + 1;

@@ -15,8 +15,10 @@ namespace pl {
 
 // Pixel value = average radiance over the pixel's area (box filter): sample s of pixel (x, y)
 // uses the random stream keyed by (seed, pixel index, s), never by thread.
-// Calls integrator.preprocess() first (its time is part of the render time). Checks the time
-// limit and interrupts per pixel; a pass they cut short leaves some pixels with one sample more.
+// Calls integrator.preprocess() first (its time is part of the render time). Hands the
+// integrator Scene::kPacket neighbouring pixels of a row at a time (PixelIntegrator::LiPacket).
+// Checks the time limit and interrupts before each such group; a pass they cut short leaves
+// some pixels with one sample more.
 ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions options, RenderInfo* info);
 
 // Any integrator: integrator.render(), which owns its loop.

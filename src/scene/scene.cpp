@@ -414,19 +414,69 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   rtcIntersect1(rtcScene_, &context, &rh);
   ++rayCounter.count;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hitOf(rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+  return true;
+}
 
+void Scene::hitOf(unsigned instID, unsigned geomID, uint32_t primID, float u, float v, float t, SurfaceHit* hit) const {
   // Embree: p = (1 − u − v) v0 + u v1 + v v2. A hit inside an instance names the instance's
   // geometry in instID[0] and the part within its prototype in geomID.
-  const unsigned instID = rh.hit.instID[0];
   const Instance& inst = instID == RTC_INVALID_GEOMETRY_ID ? instances_[0]
                                                            : instances_[instID - prototypes_[0].parts.size() + 1];
   const Prototype& proto = prototypes_[inst.prototype];
-  uint32_t primID = rh.hit.primID;
-  float b1 = rh.hit.u, b2 = rh.hit.v;
-  triangleOfHit(proto, proto.parts[rh.hit.geomID], &primID, &b1, &b2);
-  surfaceOf(inst, rh.hit.geomID, primID, b1, b2, hit);
-  hit->t = rh.ray.tfar;
-  return true;
+  float b1 = u, b2 = v;
+  triangleOfHit(proto, proto.parts[geomID], &primID, &b1, &b2);
+  surfaceOf(inst, geomID, primID, b1, b2, hit);
+  hit->t = t;
+}
+
+namespace {
+// The packet's lanes that go to Embree: active, and a ray Embree accepts. Returns how many.
+int packetLanes(const Ray* rays, const bool* active, int* valid, int* only) {
+  int n = 0;
+  for (int k = 0; k < Scene::kPacket; ++k) {
+    valid[k] = active[k] && embreeValid(rays[k]) ? -1 : 0;
+    if (valid[k]) n++, *only = k;
+  }
+  return n;
+}
+
+template <typename Packet>
+void fillLane(Packet& r, int k, const Ray& ray) {
+  r.org_x[k] = ray.o.x, r.org_y[k] = ray.o.y, r.org_z[k] = ray.o.z;
+  r.dir_x[k] = ray.d.x, r.dir_y[k] = ray.d.y, r.dir_z[k] = ray.d.z;
+  r.tnear[k] = ray.tmin, r.tfar[k] = ray.tmax, r.time[k] = 0.0f;
+  r.mask[k] = 0xFFFFFFFFu, r.id[k] = 0, r.flags[k] = 0;
+}
+}  // namespace
+
+void Scene::intersect(const Ray* rays, const bool* active, bool coherent, SurfaceHit* hits, bool* found) const {
+  alignas(32) int valid[kPacket];
+  int only = 0;
+  const int n = packetLanes(rays, active, valid, &only);
+  for (int k = 0; k < kPacket; ++k) found[k] = false;
+  if (n == 1) {  // a packet of one costs more than the one-ray query
+    found[only] = intersect(rays[only], &hits[only]);
+    return;
+  }
+  if (n == 0) return;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  RTCRayHit8 rh;
+  for (int k = 0; k < kPacket; ++k) {
+    if (!valid[k]) continue;
+    fillLane(rh.ray, k, rays[k]);
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect8(valid, rtcScene_, &context, &rh);
+  rayCounter.count += uint64_t(n);
+  for (int k = 0; k < kPacket; ++k) {
+    if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+    found[k] = true;
+    hitOf(rh.hit.instID[0][k], rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], &hits[k]);
+  }
 }
 
 bool Scene::occluded(const Ray& ray) const {

@@ -169,6 +169,13 @@ class Scene {
   // --- queries ---
   bool intersect(const Ray& ray, SurfaceHit* hit) const;
   bool occluded(const Ray& ray) const;
+  // intersect() for up to kPacket rays at once (lane k where active[k]), through Embree's
+  // packets (rtcIntersect8): each lane's found[k] and hits[k] are bit for bit what the one-ray
+  // query returns for it. `coherent` tells Embree the rays start together and run nearly
+  // parallel (one pixel row's camera rays), which it traverses as a bundle. A packet of one
+  // active lane takes the one-ray query.
+  static constexpr int kPacket = 8;
+  void intersect(const Ray* rays, const bool* active, bool coherent, SurfaceHit* hits, bool* found) const;
   // Ray leaving the surface at `hit` in direction d, offset off the surface to avoid self-hits.
   Ray spawnRay(const SurfaceHit& hit, const Vec3& d) const;
   // Beer–Lambert along the segment a ray travelled (direction d, unit) to reach `hit`: when it
@@ -297,6 +304,8 @@ class Scene {
     const float len = glm::length(n);
     return len > 0 ? n / len : Vec3(0, 0, 1);
   }
+  // The hit Embree reported (its instance, geometry, primitive, u, v and distance t) as a surface.
+  void hitOf(unsigned instID, unsigned geomID, uint32_t primID, float u, float v, float t, SurfaceHit* hit) const;
   // The surface on triangle primID of the part, placed by the instance.
   void surfaceOf(const Instance& inst, uint32_t part, uint32_t primID, float b1, float b2, SurfaceHit* hit) const;
   // Triangle `primitive`'s instance, part and triangle within the part.
