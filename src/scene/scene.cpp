@@ -441,8 +441,7 @@ int packetLanes(const Ray* rays, const bool* active, int* valid, int* only) {
   return n;
 }
 
-template <typename Packet>
-void fillLane(Packet& r, int k, const Ray& ray) {
+void fillLane(RTCRay8& r, int k, const Ray& ray) {
   r.org_x[k] = ray.o.x, r.org_y[k] = ray.o.y, r.org_z[k] = ray.o.z;
   r.dir_x[k] = ray.d.x, r.dir_y[k] = ray.d.y, r.dir_z[k] = ray.d.z;
   r.tnear[k] = ray.tmin, r.tfar[k] = ray.tmax, r.time[k] = 0.0f;
