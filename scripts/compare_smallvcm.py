@@ -47,6 +47,9 @@ import subprocess
 import sys
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import experiment_results  # noqa: E402  (the one uncached image reader)
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 SCENES = {"sun": 0, "point": 2}
 # photonlab method : SmallVCM method ("" where the other codebase has no such method).
@@ -153,8 +156,6 @@ def run_tail(a, binary, pairs):
 
 def read_rgb(path):
     """Linear RGB of an EXR or HDR image, read uncached (experiment_results.read_exr)."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import experiment_results
     try:
         return experiment_results.read_exr(path)
     except experiment_results.ResultsError as e:
