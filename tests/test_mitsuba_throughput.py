@@ -1,6 +1,7 @@
 """scripts/mitsuba_throughput.py's photonlab half, without Mitsuba: the rate and the sample count
 it reads from photonlab's summary line, for a sample count and for a time budget, and the relMSE
 it reads from `photonlab compare`."""
+import math
 import os
 import sys
 
@@ -59,3 +60,31 @@ def test_mitsuba_samplers_photonlab_half_scores_each_sampler_and_seed(tmp_path):
                                                    ("photonlab", "independent", 2), ("photonlab", "sobol", 2)]
     assert rows[0][3] == 0  # independent, seed 1: the reference itself
     assert all(r[3] > 0 for r in rows[1:])
+
+
+def test_render_for_time_rescales_until_the_time_is_met():
+    # A renderer whose rate falls as the count grows (as Mitsuba's does at hundreds of samples
+    # per pixel): time = spp / (100 − spp/20) seconds. 400 spp takes 5 s, not the 4 s its rate
+    # at low counts predicts, so the count is scaled by T / time until within 5% of T.
+    calls = []
+
+    def render(spp):
+        calls.append(spp)
+        return "image", spp / (100 - spp / 20)
+
+    img, secs, spp = mt.render_for_time(render, 4.0, 400)
+    assert img == "image" and abs(secs - 4.0) <= 0.2
+    assert calls[0] == 400 and calls[1] == 320 and len(calls) <= 3
+    assert spp == calls[-1]
+
+
+def test_render_for_time_keeps_a_count_already_on_time_and_honours_the_sampler_s_rounding():
+    once = []
+    img, secs, spp = mt.render_for_time(lambda n: (once.append(n), ("image", n / 100))[1], 3.0, 300)
+    assert once == [300] and spp == 300 and secs == 3.0
+    # A sampler that only takes powers of four: the rescaled count is rounded its way, and a
+    # count that rounds back to itself stops the loop rather than rendering it again.
+    calls = []
+    img, secs, spp = mt.render_for_time(lambda n: (calls.append(n), ("image", n / 100))[1], 1.0, 256,
+                                        round_spp=lambda n: 4 ** max(1, round(math.log(n, 4))))
+    assert calls == [256, 64] and spp == 64
