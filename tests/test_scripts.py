@@ -470,3 +470,30 @@ def test_gallery_renders_models_from_a_folder_or_a_url_of_the_khronos_layout(tmp
 def _make_dirs(path):
     os.makedirs(path, exist_ok=True)
     return str(path)
+
+
+def test_profile_guided_build_renders_the_plain_build_s_images_bit_for_bit(tmp_path):
+    # scripts/build_pgo.sh: instrumented build, training renders, rebuild with the profile.
+    # No flag it adds may change floating-point results, so every image must be the plain
+    # build's to the last bit (`compare` prints rmse 0 only then); the profiles must exist
+    # (the training ran and wrote them where the second stage reads them).
+    plain = os.path.join(ROOT, "build", "photonlab")
+    if not os.path.exists(plain):
+        pytest.skip("needs the build")
+    out = tmp_path / "build-pgo"
+    subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_pgo.sh"), str(out)], check=True,
+                   capture_output=True, text=True)
+    assert any(name.endswith(".gcda") for name in os.listdir(out / "pgo-profile"))
+    pgo = str(out / "photonlab")
+    scenes = os.path.join(ROOT, "scenes")
+    for scene, args in (("cornell-spheres.gltf", ["--integrator", "path", "--spp", "4"]),
+                        ("cornell-spheres.gltf", ["--integrator", "path", "--spp", "2", "--spectral"]),
+                        ("smallvcm-point.gltf", ["--integrator", "bdpt", "--spp", "2"]),
+                        ("glass-caustic.gltf", ["--integrator", "sppm", "--passes", "2", "--photons-per-pass", "20000"])):
+        images = []
+        for exe, name in ((plain, "a.exr"), (pgo, "b.exr")):
+            images.append(str(tmp_path / name))
+            subprocess.run([exe, "render", os.path.join(scenes, scene), "--width", "48", "-q", "-o", images[-1]] + args,
+                           check=True, capture_output=True)
+        r = subprocess.run([plain, "compare", images[1], images[0]], check=True, capture_output=True, text=True)
+        assert '"rmse": 0,' in r.stdout, (scene, args, r.stdout)
