@@ -12,10 +12,10 @@ core of this machine, at the same resolution and sample count.
               compiles its kernels (excluded likewise). Min and max over the rounds.
   relMSE      at equal time (--equal-time, seconds): photonlab `render --time T`; Mitsuba the spp
               its median rate gives in T, rescaled by T over its time and rendered again while
-              that time is more than 5% from T (at most three renders; its time is reported). Against a photonlab path-traced
-              reference of --reference-spp samples per pixel (seed 1000, independent of the
-              runs'), by `photonlab compare` (per channel, (a − b)²/(b² + 0.01)). The
-              reference's own relMSE adds the same amount to both.
+              that time is more than 5% from T (at most three renders; its time is reported).
+              Against a photonlab path-traced reference of --reference-spp samples per pixel
+              (seed 1000, independent of the runs'), by `photonlab compare` (per channel,
+              (a − b)²/(b² + 0.01)). The reference's own relMSE adds the same amount to both.
 
 Needs Mitsuba 3 and numpy in the interpreter that runs it, and DRJIT_LIBLLVM_PATH at a libLLVM ≥ 16
 (Debian 12: apt install libllvm19):
