@@ -22,6 +22,11 @@ are in OUT already.
 Beside each mean relMSE the table gives the mean over each image's best 99% of pixels (the bulk
 of the error, without the few single samples that decide a 20 s run) and every run's values.
 
+Run k renders with photonlab seed k + 1 and SmallVCM seed 2000 + 100 k (each of its threads adds
+its number). Runs are therefore repeatable, and two comparisons with the same runs draw the same
+samples: the same fireflies, within the iterations both reach. --first-run K starts at run K,
+for samples no earlier comparison drew.
+
 SmallVCM's -t counts process CPU seconds (clock()), so it gets -t 2·seconds for about `seconds`
 of wall time on 2 cores; the wall time each run took is measured here and reported.
 
@@ -34,7 +39,7 @@ luck that a few 20 s renders leave to whether a rare large sample fell in them.
 
 Usage: python3 scripts/compare_smallvcm.py --smallvcm-src DIR [--seconds 20] [--reference-iterations 1024]
        [--reference-seconds 600]
-       [--repeats 1] [--methods bdpt:bpt,vcm:vcm] [--out DIR] [--tail N] [--photonlab-args "--heuristic balance"]
+       [--repeats 1] [--first-run 0] [--methods bdpt:bpt,vcm:vcm] [--out DIR] [--tail N] [--photonlab-args "--heuristic balance"]
 Prints a Markdown table (and writes it to OUT/table.md, or OUT/tail.md).
 """
 import argparse
@@ -43,6 +48,7 @@ import os
 import re
 import shlex
 import shutil
+import statistics
 import subprocess
 import sys
 import time
@@ -185,6 +191,9 @@ def main():
     ap.add_argument("--reference-iterations", type=int, default=1024, help="photonlab's reference: vcm iterations")
     ap.add_argument("--reference-seconds", type=float, default=600.0, help="SmallVCM's reference: wall time")
     ap.add_argument("--repeats", type=int, default=1, help="runs of each method (relMSE averaged)")
+    ap.add_argument("--first-run", type=int, default=0, metavar="K",
+                    help="number of the first run: run k renders with photonlab seed k + 1 and SmallVCM seed "
+                         "2000 + 100 k, so runs from K on are other samples than runs 0 to K - 1")
     ap.add_argument("--methods", default="", help="photonlab:smallvcm pairs, e.g. bdpt:bpt,vcm:vcm (default: all)")
     ap.add_argument("--scenes", default="sun,point")
     ap.add_argument("--photonlab-args", default="", metavar="ARGS",
@@ -212,7 +221,7 @@ def main():
             run_smallvcm(binary, scene, "vcm", a.reference_seconds, theirs_ref)
         for ours, theirs in pairs:
             results = {}
-            for k in range(a.repeats):
+            for k in range(a.first_run, a.first_run + a.repeats):
                 if ours:
                     out = os.path.join(a.out, "photonlab-%s-%s-%d.exr" % (scene, ours, k))
                     wall, work = run_photonlab(a.photonlab, scene, ours, a.seconds, out, seed=k + 1,
@@ -226,15 +235,19 @@ def main():
                         (wall, work, relmse(a.photonlab, out, theirs_ref), trimmed_relmse(out, theirs_ref)))
             for (code, method), runs in results.items():
                 mean = sum(r[2] for r in runs) / len(runs)
+                median = statistics.median(r[2] for r in runs)
                 trimmed = sum(r[3] for r in runs) / len(runs)
                 each = ", ".join("%s: %.4f (%.4f)" % (r[1].split()[0], r[2], r[3]) for r in runs)
-                rows.append((scene, code, method, runs[-1][1], sum(r[0] for r in runs) / len(runs), mean, trimmed, each))
-                print("%-6s %-10s %-6s %-22s %6.1f s  relMSE %.5f  best 99%% of pixels %.5f  runs %s" % rows[-1],
-                      flush=True)
-    table = ["| scene | code | method | work done (last run) | wall time | relMSE | best 99% of pixels | runs: iterations: relMSE (best 99%) |",
-             "|---|---|---|---|---|---|---|---|"]
-    for scene, code, method, work, wall, err, trimmed, each in rows:
-        table.append("| %s | %s | `%s` | %s | %.1f s | %.4f | %.4f | %s |" % (scene, code, method, work, wall, err, trimmed, each))
+                rows.append((scene, code, method, runs[-1][1], sum(r[0] for r in runs) / len(runs), mean, median, trimmed,
+                             each))
+                print("%-6s %-10s %-6s %-22s %6.1f s  relMSE %.5f (median %.5f)  best 99%% of pixels %.5f  runs %s"
+                      % rows[-1], flush=True)
+    table = ["| scene | code | method | work done (last run) | wall time | relMSE (mean) | median | best 99% of pixels | "
+             "runs: iterations: relMSE (best 99%) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for scene, code, method, work, wall, err, median, trimmed, each in rows:
+        table.append("| %s | %s | `%s` | %s | %.1f s | %.4f | %.4f | %.4f | %s |"
+                     % (scene, code, method, work, wall, err, median, trimmed, each))
     text = "\n".join(table) + "\n"
     open(os.path.join(a.out, "table.md"), "w").write(text)
     print(text)

@@ -335,6 +335,43 @@ def test_compare_smallvcm_refuses_a_source_it_cannot_patch(tmp_path):
     assert r.returncode != 0 and "unrecognised src/smallvcm.cxx" in r.stderr
 
 
+def test_compare_smallvcm_first_run_draws_other_seeds_and_reports_the_median(tmp_path, monkeypatch):
+    # Runs 0-5 of every earlier comparison drew the same seeds, hence the same fireflies. Run k
+    # must use photonlab seed k + 1 and SmallVCM base seed 2000 + 100 k (its threads add 0, 1),
+    # and --first-run K must start at run K. Renderers and metrics are stubs; each run's relMSE
+    # is its seed squared, so that the mean and the median differ and are known.
+    import compare_smallvcm as cs
+    calls, seed_of = [], {}
+
+    def render(code, work):
+        def run(binary, scene, method, seconds, output, seed=0, **kw):
+            calls.append((code, seed, os.path.basename(output)))
+            seed_of[output] = seed
+            return 20.0, work
+        return run
+
+    out = tmp_path / "out"
+    out.mkdir()
+    for ref in ("ref-photonlab-point.exr", "ref-smallvcm-point.hdr"):
+        (out / ref).write_text("")  # present: no reference render
+    monkeypatch.setattr(cs, "build_smallvcm", lambda src, out_dir: "smallvcm")
+    monkeypatch.setattr(cs, "run_photonlab", render("photonlab", "40 iterations"))
+    monkeypatch.setattr(cs, "run_smallvcm", render("smallvcm", "30 iterations"))
+    monkeypatch.setattr(cs, "relmse", lambda photonlab, image, reference: float(seed_of[image]) ** 2)
+    monkeypatch.setattr(cs, "trimmed_relmse", lambda image, reference: 0.5)
+    monkeypatch.setattr(sys, "argv", ["compare_smallvcm.py", "--smallvcm-src", str(tmp_path), "--out", str(out),
+                                      "--scenes", "point", "--methods", "bdpt:bpt", "--first-run", "6",
+                                      "--repeats", "3"])
+    cs.main()
+    assert calls == [("photonlab", 7, "photonlab-point-bdpt-6.exr"), ("smallvcm", 2600, "smallvcm-point-bpt-6.hdr"),
+                     ("photonlab", 8, "photonlab-point-bdpt-7.exr"), ("smallvcm", 2700, "smallvcm-point-bpt-7.hdr"),
+                     ("photonlab", 9, "photonlab-point-bdpt-8.exr"), ("smallvcm", 2800, "smallvcm-point-bpt-8.hdr")]
+    rows = (out / "table.md").read_text().strip().splitlines()
+    # photonlab: 49, 64, 81 (mean 64.6667, median 64); SmallVCM: 2600², 2700², 2800².
+    assert rows[2].startswith("| point | photonlab | `bdpt` | 40 iterations | 20.0 s | 64.6667 | 64.0000 | 0.5000 |")
+    assert rows[3].startswith("| point | SmallVCM | `bpt` | 30 iterations | 20.0 s | 7296666.6667 | 7290000.0000 | 0.5000 |")
+
+
 def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulates_rates(tmp_path):
     # --tail counts, in one-iteration images, the pixels whose largest channel exceeds each
     # threshold; SmallVCM writes Radiance .hdr, photonlab EXR: both must read the same.
