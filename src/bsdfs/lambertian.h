@@ -12,6 +12,7 @@ class Lambertian final : public BSDF {
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "lambertian"; }
+  const ColorTexture& albedo() const { return albedo_; }
 
  private:
   ColorTexture albedo_;

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/least_path_loop.h"
 #include "core/parallel.h"
 #include "io/metrics.h"
 #include "core/rng.h"
@@ -221,6 +222,12 @@ auto bestOf5(Measure measure) {
 
 bool operator>(const PathRate& a, const PathRate& b) { return a.samplesPerSecond > b.samplesPerSecond; }
 
+// The least path tracer (bench/least_path_loop.h) at the path tracer's resolution, depth and spp.
+PathRate leastPathRate(const Scene& scene, int threads, int spp) {
+  const LeastPathResult r = leastPathLoop(scene, 256, 256, spp, 64, threads, 1);
+  return {256.0 * 256.0 * spp / r.seconds, (r.closestRays + r.shadowRays) / r.seconds, r.shadowRays / r.seconds};
+}
+
 struct GatherRate {
   double pixelOrder, randomOrder;
 };
@@ -296,6 +303,8 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
   const int columns[2] = {1, all};
   EmbreeRates embree[2];
   PathRate path[2] = {{0, 0}, {0, 0}}, spectral[2] = {{0, 0}, {0, 0}};
+  PathRate least[2] = {{0, 0}, {0, 0}};
+  const std::string leastUnsupported = leastPathLoopUnsupported(*scene);
   TraceRate trace[2] = {{0, 0}, {0, 0}};
   auto keepBest = [](auto& best, const auto& m) {
     if (m > best) best = m;
@@ -304,6 +313,7 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
     for (int c = 0; c < 2; ++c) {
       keepBestRates(embree[c], embreeRaysPerSecond(*scene, columns[c]));
       keepBest(path[c], pathTracerRate(*scene, columns[c], spp));
+      if (leastUnsupported.empty()) keepBest(least[c], leastPathRate(*scene, columns[c], spp));
       keepBest(spectral[c], pathTracerRate(*scene, columns[c], spp, true));
       keepBest(trace[c], photonTraceRate(*scene, columns[c], 500000));
     }
@@ -326,6 +336,21 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
               100 * path[1].raysPerSecond / embree[1].closest);
   std::printf("| path tracer / Embree ceiling, each ray kind at its own rate | %.0f%% | %.0f%% |\n",
               100 * path[0].ofCeiling(embree[0]), 100 * path[1].ofCeiling(embree[1]));
+  if (leastUnsupported.empty()) {
+    std::printf("| least path loop: the same estimator on raw Embree, Lambertian only (k samples/s) | %.1f | %.1f |\n",
+                least[0].samplesPerSecond / 1e3, least[1].samplesPerSecond / 1e3);
+    auto perSample = [](const PathRate& r) {
+      return std::make_pair((r.raysPerSecond - r.shadowRaysPerSecond) / r.samplesPerSecond, r.shadowRaysPerSecond / r.samplesPerSecond);
+    };
+    const auto [pathClosest, pathShadow] = perSample(path[0]);
+    const auto [leastClosest, leastShadow] = perSample(least[0]);
+    std::printf("| rays per sample, closest-hit + shadow: path tracer, least path loop | %.2f + %.2f, %.2f + %.2f | |\n",
+                pathClosest, pathShadow, leastClosest, leastShadow);
+    std::printf("| path tracer / least path loop | %.0f%% | %.0f%% |\n", 100 * path[0].samplesPerSecond / least[0].samplesPerSecond,
+                100 * path[1].samplesPerSecond / least[1].samplesPerSecond);
+  } else {
+    std::printf("| least path loop | (%s) | |\n", leastUnsupported.c_str());
+  }
   std::printf("| path tracer, --spectral (k samples/s) | %.1f | %.1f |\n", spectral[0].samplesPerSecond / 1e3,
               spectral[1].samplesPerSecond / 1e3);
   std::printf("| spectral cost: RGB rate / spectral rate | %.2fx | %.2fx |\n",
