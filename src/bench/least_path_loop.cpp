@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <unordered_map>
 
 #include "bsdfs/lambertian.h"
 #include "core/parallel.h"
@@ -69,6 +70,8 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
   const uint32_t count = uint32_t(scene.triangleCount());
   std::vector<Triangle> triangles(count);
   std::vector<uint32_t> lightTriangle(scene.lights().size(), 0);
+  std::unordered_map<const Light*, int> lightIndex;
+  for (size_t i = 0; i < scene.lights().size(); ++i) lightIndex[scene.lights()[i].get()] = int(i);
   for (uint32_t t = 0; t < count; ++t) {
     Triangle& tri = triangles[t];
     const auto v = scene.trianglePositions(t);
@@ -80,8 +83,8 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
     tri.albedo = static_cast<const Lambertian&>(*m.bsdf).albedo().factor();
     if (const AreaLight* light = scene.triangleLight(t)) {
       tri.Le = light->meanRadiance();
-      for (size_t i = 0; i < scene.lights().size(); ++i)
-        if (scene.lights()[i].get() == light) tri.light = int(i), lightTriangle[i] = t;
+      tri.light = lightIndex.at(light);
+      lightTriangle[size_t(tri.light)] = t;
     }
   }
   RTCDevice device = rtcNewDevice(nullptr);
