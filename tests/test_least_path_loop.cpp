@@ -60,7 +60,7 @@ TEST_CASE("the least path loop agrees with the path tracer region by region on t
   CHECK(leastShadow == Approx(pathShadow).epsilon(0.015));
 }
 
-TEST_CASE("the least path loop refuses what it does not render: mirrors, glass, point lights") {
+TEST_CASE("the least path loop refuses what it does not render: mirrors, glass, point lights, a sky") {
   for (const char* name : {"cornell-spheres.gltf", "smallvcm-point.gltf", "sky.gltf"}) {
     auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + name);
     INFO(name << ": " << leastPathLoopUnsupported(*scene));

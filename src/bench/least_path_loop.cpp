@@ -24,44 +24,38 @@ struct Triangle {
   int light = -1;  // its index in Scene::lights(), or -1
 };
 
-struct Unsupported {
-  std::string reason;
-};
-
-Unsupported check(const Scene& scene) {
-  if (scene.environment()) return {"an environment light"};
-  if (scene.hasAbsorbingVolumes()) return {"an absorbing volume"};
-  for (const auto& light : scene.lights())
-    if (std::string(light->name()) != "area") return {std::string("a ") + light->name() + " light"};
-  // The materials triangles use (the loader keeps a default one that may have none).
-  std::vector<bool> used(scene.materials().size(), false);
-  for (uint32_t t = 0; t < scene.triangleCount(); ++t) used[scene.triangleMaterial(t)] = true;
-  for (size_t i = 0; i < used.size(); ++i) {
-    if (!used[i]) continue;
-    const Material& m = scene.materials()[i];
-    if (!m.bsdf || !m.bsdf->isLambertian()) return {"material '" + m.name + "' is not Lambertian"};
-    if (!static_cast<const Lambertian&>(*m.bsdf).albedo().isConstant()) return {"material '" + m.name + "' is textured"};
-    if (m.normalMap || m.alpha || m.alphaMode != AlphaMode::Opaque) return {"material '" + m.name + "' has a normal map or alpha"};
-    if (m.emissionTexture || (m.twoSided && m.emission != Spectrum(0.0f))) return {"material '" + m.name + "' emits from a texture or both faces"};
-  }
-  // Interpolated normals and vertex colours, triangle by triangle (at the corners and the centre).
-  const Vec2 at[4] = {{0, 0}, {1, 0}, {0, 1}, {1.0f / 3, 1.0f / 3}};
-  for (uint32_t t = 0; t < scene.triangleCount(); ++t)
-    for (const Vec2& b : at) {
-      const SurfaceHit hit = scene.surfaceAt(t, b.x, b.y);
-      if (hit.shadingDiffers()) return {"triangle " + std::to_string(t) + " has shading normals"};
-      if (hit.color != Spectrum(1.0f)) return {"triangle " + std::to_string(t) + " has a vertex colour"};
-    }
-  return {};
-}
-
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
 
-std::string leastPathLoopUnsupported(const Scene& scene) { return check(scene).reason; }
+std::string leastPathLoopUnsupported(const Scene& scene) {
+  if (scene.environment()) return "an environment light";
+  if (scene.hasAbsorbingVolumes()) return "an absorbing volume";
+  for (const auto& light : scene.lights())
+    if (std::string(light->name()) != "area") return std::string("a ") + light->name() + " light";
+  // The materials triangles use (the loader keeps a default one that may have none).
+  std::vector<bool> used(scene.materials().size(), false);
+  for (uint32_t t = 0; t < scene.triangleCount(); ++t) used[scene.triangleMaterial(t)] = true;
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials()[i];
+    if (!m.bsdf || !m.bsdf->isLambertian()) return "material '" + m.name + "' is not Lambertian";
+    if (!static_cast<const Lambertian&>(*m.bsdf).albedo().isConstant()) return "material '" + m.name + "' is textured";
+    if (m.normalMap || m.alpha || m.alphaMode != AlphaMode::Opaque) return "material '" + m.name + "' has a normal map or alpha";
+    if (m.emissionTexture || (m.twoSided && m.emission != Spectrum(0.0f))) return "material '" + m.name + "' emits from a texture or both faces";
+  }
+  // Interpolated normals and vertex colours, triangle by triangle (at the corners and the centre).
+  const Vec2 at[4] = {{0, 0}, {1, 0}, {0, 1}, {1.0f / 3, 1.0f / 3}};
+  for (uint32_t t = 0; t < scene.triangleCount(); ++t)
+    for (const Vec2& b : at) {
+      const SurfaceHit hit = scene.surfaceAt(t, b.x, b.y);
+      if (hit.shadingDiffers()) return "triangle " + std::to_string(t) + " has shading normals";
+      if (hit.color != Spectrum(1.0f)) return "triangle " + std::to_string(t) + " has a vertex colour";
+    }
+  return {};
+}
 
 LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp, int maxDepth, int threads, uint64_t seed) {
   if (const std::string why = leastPathLoopUnsupported(scene); !why.empty()) throw Error("least path loop: " + why);
