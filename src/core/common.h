@@ -30,6 +30,10 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// For the few tiny functions on every path vertex (frame changes, sampling warps) that GCC's
+// link-time inliner otherwise leaves as calls once the unit grows.
+#define PL_HOT_INLINE inline __attribute__((always_inline))
+
 inline float luminance(const Spectrum& s) { return 0.2126f * s.r + 0.7152f * s.g + 0.0722f * s.b; }
 inline float average(const Spectrum& s) { return (s.r + s.g + s.b) / 3.0f; }
 inline float maxComponent(const Spectrum& s) { return std::max(s.r, std::max(s.g, s.b)); }

@@ -16,8 +16,8 @@ struct Frame {
     s = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
     t = Vec3(b, sign + n.y * n.y * a, -n.y);
   }
-  Vec3 toLocal(const Vec3& v) const { return Vec3(glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)); }
-  Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
+  PL_HOT_INLINE Vec3 toLocal(const Vec3& v) const { return Vec3(glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)); }
+  PL_HOT_INLINE Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
 }  // namespace pl

@@ -25,8 +25,8 @@ class Sampler {
   // Independent draws from `rng` alone.
   explicit Sampler(Rng& rng) : Sampler(rng, false, 0, 0, 0) {}
 
-  float get1D() { return sobol_ && slot_ < slots_ ? next().x : rng_.uniform(); }
-  Vec2 get2D() {
+  PL_HOT_INLINE float get1D() { return sobol_ && slot_ < slots_ ? next().x : rng_.uniform(); }
+  PL_HOT_INLINE Vec2 get2D() {
     if (sobol_ && slot_ < slots_) return next();
     const float y = rng_.uniform();  // y first: the order GCC gave the two draws as arguments
     return Vec2(rng_.uniform(), y);
@@ -34,7 +34,8 @@ class Sampler {
   bool sobol() const { return sobol_; }
 
  private:
-  Vec2 next() { return qmc::sobol2D(index_, key_ ^ (uint64_t(slot_++) * 0x9e3779b97f4a7c15ULL)); }
+  // Out of line: a Sobol' point costs a hash chain, and the independent draws inline without it.
+  __attribute__((noinline)) Vec2 next() { return qmc::sobol2D(index_, key_ ^ (uint64_t(slot_++) * 0x9e3779b97f4a7c15ULL)); }
   Rng& rng_;
   bool sobol_;
   uint64_t key_;

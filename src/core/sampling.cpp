@@ -18,15 +18,6 @@ Vec2 sampleConcentricDisc(const Vec2& u) {
   return r * Vec2(std::cos(theta), std::sin(theta));
 }
 
-Vec3 sampleCosineHemisphere(const Vec2& u) {
-  // Malley's method with the polar map r = √u₁, φ = 2πu₂: branch-free. (The concentric map
-  // only helps stratified samples; with independent ones its data-dependent branch cost
-  // measurable time in photon tracing.)
-  float r = std::sqrt(u.x);
-  Vec2 sc = sinCos2Pi(u.y);
-  return Vec3(r * sc.y, r * sc.x, std::sqrt(std::max(0.0f, 1.0f - u.x)));
-}
-
 Vec3 sampleUniformSphere(const Vec2& u) {
   float z = 1.0f - 2.0f * u.x;
   float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
@@ -47,15 +38,6 @@ Vec3 samplePowerCosine(const Vec2& u, float n) {
   float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
   Vec2 sc = sinCos2Pi(u.y);
   return Vec3(sinTheta * sc.y, sinTheta * sc.x, cosTheta);
-}
-
-Vec2 sampleUniformTriangle(const Vec2& u) {
-  // Heitz 2019, "A low-distortion map between triangle and square".
-  // Both halves are computed and one selected: u.x < u.y is a coin flip, and a branch on it
-  // mispredicts half the time (common.h, select).
-  bool lower = u.x < u.y;
-  float h0 = u.x / 2, h1 = u.y / 2;
-  return Vec2(select(lower, h0, u.x - h1), select(lower, u.y - h0, h1));
 }
 
 AliasTable::AliasTable(const std::vector<float>& weights) {

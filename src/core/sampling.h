@@ -23,7 +23,14 @@ inline Vec2 sinCos2Pi(float u) {
 }
 
 // Cosine-weighted hemisphere around +z (Malley's method, polar map); pdf = cosθ/π (solid angle).
-Vec3 sampleCosineHemisphere(const Vec2& u);
+PL_HOT_INLINE Vec3 sampleCosineHemisphere(const Vec2& u) {
+  // Malley's method with the polar map r = √u₁, φ = 2πu₂: branch-free. (The concentric map
+  // only helps stratified samples; with independent ones its data-dependent branch cost
+  // measurable time in photon tracing.)
+  float r = std::sqrt(u.x);
+  Vec2 sc = sinCos2Pi(u.y);
+  return Vec3(r * sc.y, r * sc.x, std::sqrt(std::max(0.0f, 1.0f - u.x)));
+}
 inline float pdfCosineHemisphere(const Vec3& v) { return v.z > 0 ? v.z * kInvPi : 0.0f; }
 
 // Uniform direction on the unit sphere; pdf = 1/4π.
@@ -43,7 +50,14 @@ inline float pdfPowerCosine(float cosTheta, float n) {
 Vec2 sampleConcentricDisc(const Vec2& u);
 
 // Uniform barycentrics (b0, b1) on a triangle; pdf = 1/area.
-Vec2 sampleUniformTriangle(const Vec2& u);
+PL_HOT_INLINE Vec2 sampleUniformTriangle(const Vec2& u) {
+  // Heitz 2019, "A low-distortion map between triangle and square".
+  // Both halves are computed and one selected: u.x < u.y is a coin flip, and a branch on it
+  // mispredicts half the time (common.h, select).
+  bool lower = u.x < u.y;
+  float h0 = u.x / 2, h1 = u.y / 2;
+  return Vec2(select(lower, h0, u.x - h1), select(lower, u.y - h0, h1));
+}
 
 // Build (u, v) in the hemisphere's (cosθ, φ) from a direction: for histogram tests.
 inline float sphericalPhi(const Vec3& v) {

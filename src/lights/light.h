@@ -61,8 +61,12 @@ class Light {
   // values at the path's wavelengths. Every light passes one fixed colour times a scalar
   // (I·c, Le·c, ...), so its spectrum per unit of that scalar is tabulated once: per unit of
   // luminance for the fixed shapes (blackbody, E), per unit of the largest component otherwise.
-  Spectrum emit(const Spectrum& rgb, const SampledWavelengths& lambda) const {
-    if (!lambda.spectral) return rgb;
+  PL_HOT_INLINE Spectrum emit(const Spectrum& rgb, const SampledWavelengths& lambda) const {
+    return lambda.spectral ? emitSpectral(rgb, lambda) : rgb;
+  }
+
+ private:
+  Spectrum emitSpectral(const Spectrum& rgb, const SampledWavelengths& lambda) const {
     float scale = temperature > 0 || equalEnergy ? luminance(rgb) : maxComponent(rgb);
     if (!(scale > 0.0f)) return Spectrum(0.0f);
     const auto& table = emission_.get([&](LazySpectrum::Table& t) {
@@ -72,8 +76,6 @@ class Light {
     });
     return scale * LazySpectrum::at(table, lambda.lambda);
   }
-
- private:
   LazySpectrum emission_;
 };
 

@@ -601,7 +601,7 @@ void Scene::pairIntoQuads(Prototype& proto) {
   proto.paired = true;
 }
 
-std::array<uint32_t, 3> Scene::corners(const Prototype& proto, const Part& part, uint32_t primID) {
+PL_HOT_INLINE std::array<uint32_t, 3> Scene::corners(const Prototype& proto, const Part& part, uint32_t primID) {
   if (!proto.paired) {
     const uint32_t* c = &proto.indices[3 * (size_t(part.firstTriangle) + primID)];
     return {c[0], c[1], c[2]};
@@ -695,8 +695,10 @@ void Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID,
   const Vec3 &a = P[idx[0]], &b = P[idx[1]], &c = P[idx[2]];
   const bool placed = inst.prototype != 0;  // an instance: object space to world space
   float b0 = 1.0f - b1 - b2;
-  SurfaceHit& hit = *out;  // written in place: a SurfaceHit is 128 bytes, one per ray
-  hit = SurfaceHit();
+  // Written in place, every field once (a SurfaceHit is 128 bytes, one per ray: no
+  // default-constructed copy first).
+  SurfaceHit& hit = *out;
+  hit.t = INFINITY;
   hit.p = b0 * a + b1 * b + b2 * c;
   hit.ng = proto.faceNormals.empty() ? faceNormal(a, b, c) : proto.faceNormals[triangle];
   // Normals take the inverse transpose; a mirroring instance's front face stays the object's
@@ -713,10 +715,12 @@ void Scene::surfaceOf(const Instance& inst, uint32_t partIndex, uint32_t primID,
     float l = glm::length(sn);
     if (l > 0) ns = sn / l;
   }
+  hit.uv = Vec2(0.0f);
   if (part.firstUV >= 0) {
     const Vec2* uv = proto.uvs.data() + part.firstUV;
     hit.uv = b0 * uv[idx[0]] + b1 * uv[idx[1]] + b2 * uv[idx[2]];
   }
+  hit.color = Spectrum(1.0f);
   if (part.firstColor >= 0) {
     const glm::vec4* C = proto.colors.data() + part.firstColor;
     hit.color = Spectrum(b0 * C[idx[0]] + b1 * C[idx[1]] + b2 * C[idx[2]]);

@@ -52,7 +52,13 @@ class ColorTexture {
   // In spectral mode, the uplifted reflectance at the path's wavelengths (spectral/spectral.h);
   // a constant colour's spectrum is tabulated once. `tint` (a vertex colour, linear RGB)
   // multiplies the colour before the uplift.
-  Spectrum eval(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint = Spectrum(1.0f)) const {
+  PL_HOT_INLINE Spectrum eval(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint = Spectrum(1.0f)) const {
+    // A constant colour in RGB: the case on nearly every vertex, kept small enough to inline
+    // (× a white tint is exact, so this is the general branch's value bit for bit).
+    if (!lambda.spectral && !image_) return factor_ * tint;
+    return evalGeneral(uv, lambda, tint);
+  }
+  Spectrum evalGeneral(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint) const {
     const bool white = tint == Spectrum(1.0f);
     if (!lambda.spectral) return white ? evalRGB(uv) : evalRGB(uv) * tint;
     if (!spectrum_ || !white) return spectralReflectance(white ? evalRGB(uv) : evalRGB(uv) * tint, lambda);
