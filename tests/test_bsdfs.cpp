@@ -118,6 +118,32 @@ TEST_CASE("BSDF sample weight equals f·cosθ/pdf") {
   }
 }
 
+TEST_CASE("evaluate() is eval(), pdf() and the reverse pdf() bit for bit") {
+  // The estimators take f and both densities from evaluate() (Lambertian and Phong compute
+  // them together); images stay the same only if it is exactly the separate calls. Directions
+  // on both sides, across the surface, and in it (z = 0).
+  Rng rng(8, 8);
+  std::vector<Case> cases = smoothBsdfs(0.7f);
+  cases.push_back({"phong n=3.5 colored", std::make_shared<Phong>(Spectrum(0.2f, 0.4f, 0.1f), Spectrum(0.3f, 0.1f, 0.5f), 3.5f)});
+  const BSDFContext c(Vec2(0.3f, 0.6f));
+  for (auto& k : cases) {
+    for (int n = 0; n < 20000; ++n) {
+      Vec3 wo = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      Vec3 wi = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      if (n % 100 == 0) wi.z = 0.0f;
+      if (n % 100 == 1) wi = Vec3(-wo.x, -wo.y, wo.z);  // the mirror direction: the lobe's peak
+      for (bool reverse : {false, true}) {
+        const BSDFEval e = k.bsdf->evaluate(wo, wi, c, reverse);
+        const Spectrum f = k.bsdf->eval(wo, wi, c);
+        INFO(k.name << " wo=" << wo.x << "," << wo.y << "," << wo.z << " wi=" << wi.x << "," << wi.y << "," << wi.z);
+        REQUIRE((e.f.r == f.r && e.f.g == f.g && e.f.b == f.b));
+        REQUIRE(e.pdf == k.bsdf->pdf(wo, wi, c));
+        REQUIRE(e.pdfReverse == (reverse ? k.bsdf->pdf(wi, wo, c) : 0.0f));
+      }
+    }
+  }
+}
+
 TEST_CASE("BSDFs are reciprocal: f(wo - wi) = f(wi - wo)") {
   Rng rng(4, 4);
   for (auto& c : smoothBsdfs(0.9f)) {

@@ -10,6 +10,7 @@ class Lambertian final : public BSDF {
   explicit Lambertian(ColorTexture albedo) : albedo_(std::move(albedo)) { lambertian_ = true; }
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  BSDFEval evaluate(const Vec3& wo, const Vec3& wi, const BSDFContext& c, bool reverse) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "lambertian"; }
   const ColorTexture& albedo() const { return albedo_; }

@@ -30,6 +30,22 @@ float Phong::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
          (1 - diffuseProbability_) * pdfPowerCosine(cosAlpha(o, i), n_);
 }
 
+BSDFEval Phong::evaluate(const Vec3& wo, const Vec3& wi, const BSDFContext&, bool reverse) const {
+  // eval and pdf share the lobe's cos^n α, and cos α is symmetric in wo and wi (the reflection
+  // about z only negates x and y), so the reverse density shares it as well: one powf, not three.
+  Vec3 o = wo, i = wi;
+  BSDFEval e;
+  if (!flipToUpperHemisphere(o, i)) return e;
+  const float ca = cosAlpha(o, i);
+  const float power = ca > 0 ? std::pow(ca, n_) : 0.0f;
+  const float lobe = ca > 0 ? (n_ + 2) * kInv2Pi * power : 0.0f;
+  const float lobePdf = ca > 0 ? (n_ + 1.0f) * kInv2Pi * power : 0.0f;  // pdfPowerCosine
+  e.f = kd_ * kInvPi + ks_ * lobe;
+  e.pdf = diffuseProbability_ * pdfCosineHemisphere(i) + (1 - diffuseProbability_) * lobePdf;
+  if (reverse) e.pdfReverse = diffuseProbability_ * pdfCosineHemisphere(o) + (1 - diffuseProbability_) * lobePdf;
+  return e;
+}
+
 bool Phong::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const {
   Vec3 o;
   if (!upperHemisphere(wo, &o)) return false;
@@ -41,7 +57,8 @@ bool Phong::sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc
     wi = lobe.toWorld(samplePowerCosine(u, n_));
     if (wi.z <= 0) return false;  // the lobe dips below the horizon: no contribution
   }
-  return finishReflectionSample(wo, wi, pdf(o, wi, c), [&] { return eval(o, wi, c); }, s);
+  const BSDFEval e = evaluate(o, wi, c, false);
+  return finishReflectionSample(wo, wi, e.pdf, [&] { return e.f; }, s);
 }
 
 }  // namespace pl

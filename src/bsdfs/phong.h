@@ -13,6 +13,7 @@ class Phong final : public BSDF {
   Phong(const Spectrum& kd, const Spectrum& ks, float exponent);
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
+  BSDFEval evaluate(const Vec3& wo, const Vec3& wi, const BSDFContext& c, bool reverse) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return "phong"; }
 

@@ -243,11 +243,11 @@ class VertexConnectionMerging::Tracer {
     const Vec3 wiLocal = hit.shading.toLocal(cs.wi);
     if (!sidesAgree(hit, v.wo, cs.wi, woLocal, wiLocal)) return;
     const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
-    Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc) *
-                 shadingNormalCorrection(woLocal, wiLocal, v.ngLocal, TransportMode::Importance);
+    const BSDFEval e = hit.bsdf->evaluate(woLocal, wiLocal, bc, true);
+    Spectrum f = e.f * shadingNormalCorrection(woLocal, wiLocal, v.ngLocal, TransportMode::Importance);
     if (isBlack(f)) return;
     const float cameraPdfA = cameraAreaPdf(cs, std::abs(glm::dot(cs.wi, hit.ng)));
-    const float revPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
+    const float revPdf = e.pdfReverse;
     const float wLight = Mis(cameraPdfA / it_.lightPaths) * (misVmAt(v.length) + v.dVCM + v.dVC * Mis(revPdf));
     const int s = v.length + 1;
     const float w = weigh(s, 1, 1.0f / (wLight + 1.0f));
@@ -378,7 +378,8 @@ class VertexConnectionMerging::Tracer {
     const Vec3 wiLocal = hit.shading.toLocal(ls.wi);
     if (!sidesAgree(hit, wo, ls.wi, woLocal, wiLocal)) return;
     const BSDFContext bc = bsdfContext(hit, path.lambda);
-    Spectrum f = hit.bsdf->eval(woLocal, wiLocal, bc);
+    const BSDFEval e = hit.bsdf->evaluate(woLocal, wiLocal, bc, true);
+    const Spectrum& f = e.f;
     if (isBlack(f)) return;
     const float cosZ = std::abs(glm::dot(ls.wi, hit.ng));
     const Vec3 y = std::isinf(ls.distance) ? hit.p : hit.p + ls.wi * ls.distance;
@@ -389,8 +390,8 @@ class VertexConnectionMerging::Tracer {
     // distance, no cosine at the light).
     const float emissionRatio = light.isDeltaDirection() || light.isInfinite() ? pdfPos * cosZ
                                                                                : pdfDir * cosZ / (ls.distance * ls.distance);
-    const float bsdfDirPdf = light.isDelta() ? 0.0f : hit.bsdf->pdf(woLocal, wiLocal, bc);
-    const float bsdfRevPdf = hit.bsdf->pdf(wiLocal, woLocal, bc);
+    const float bsdfDirPdf = light.isDelta() ? 0.0f : e.pdf;
+    const float bsdfRevPdf = e.pdfReverse;
     const float wLight = Mis(bsdfDirPdf / (pick * ls.pdf));
     const float wCamera = Mis(emissionRatio) * (misVmAt(1) + path.dVCM + path.dVC * Mis(bsdfRevPdf));
     const int t = path.length + 1;
@@ -417,17 +418,18 @@ class VertexConnectionMerging::Tracer {
     const Vec3 lightWi = v.hit.shading.toLocal(-d);
     if (!sidesAgree(hit, wo, d, woLocal, wiLocal) || !sidesAgree(v.hit, v.wo, -d, lightWo, lightWi)) return;
     const BSDFContext cc = bsdfContext(hit, path.lambda);
-    Spectrum fCamera = hit.bsdf->eval(woLocal, wiLocal, cc);
+    const BSDFEval camera = hit.bsdf->evaluate(woLocal, wiLocal, cc, true);
+    const Spectrum& fCamera = camera.f;
     if (isBlack(fCamera)) return;
     const BSDFContext lc = bsdfContext(v.hit, path.lambda, TransportMode::Importance);
-    Spectrum fLight = v.hit.bsdf->eval(lightWo, lightWi, lc) *
-                      shadingNormalCorrection(lightWo, lightWi, v.ngLocal, TransportMode::Importance);
+    const BSDFEval light = v.hit.bsdf->evaluate(lightWo, lightWi, lc, true);
+    Spectrum fLight = light.f * shadingNormalCorrection(lightWo, lightWi, v.ngLocal, TransportMode::Importance);
     if (isBlack(fLight)) return;
     const float cosCamera = std::abs(glm::dot(d, hit.ng)), cosLight = std::abs(glm::dot(d, v.hit.ng));
-    const float cameraDirPdfA = hit.bsdf->pdf(woLocal, wiLocal, cc) * cosLight / dist2;
-    const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);
-    const float lightDirPdfA = v.hit.bsdf->pdf(lightWo, lightWi, lc) * cosCamera / dist2;
-    const float lightRevPdf = v.hit.bsdf->pdf(lightWi, lightWo, lc);
+    const float cameraDirPdfA = camera.pdf * cosLight / dist2;
+    const float cameraRevPdf = camera.pdfReverse;
+    const float lightDirPdfA = light.pdf * cosCamera / dist2;
+    const float lightRevPdf = light.pdfReverse;
     const float wLight = Mis(cameraDirPdfA) * (misVmAt(v.length) + v.dVCM + v.dVC * Mis(lightRevPdf));
     const float wCamera = Mis(lightDirPdfA) * (it_.misVm + path.dVCM + path.dVC * Mis(cameraRevPdf));
     const int s = v.length + 1, t = path.length + 1;
@@ -455,11 +457,12 @@ class VertexConnectionMerging::Tracer {
       if (glm::dot(v.wo, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !transmits) return;
       const Vec3 wiLocal = hit.shading.toLocal(v.wo);
       if (transmits && !sidesAgree(hit, wo, v.wo, woLocal, wiLocal)) return;
-      Spectrum f = hit.bsdf->eval(woLocal, wiLocal, cc);
+      const BSDFEval e = hit.bsdf->evaluate(woLocal, wiLocal, cc, true);
+      Spectrum f = e.f;
       if (shadingDiffers) f *= densityShadingCorrection(wiLocal, ngLocal);
       if (isBlack(f)) return;
-      const float cameraDirPdf = hit.bsdf->pdf(woLocal, wiLocal, cc);
-      const float cameraRevPdf = hit.bsdf->pdf(wiLocal, woLocal, cc);
+      const float cameraDirPdf = e.pdf;
+      const float cameraRevPdf = e.pdfReverse;
       const float wLight = v.dVCM * it_.misVc + v.dVM * Mis(cameraDirPdf);
       const float wCamera = path.dVCM * it_.misVc + path.dVM * Mis(cameraRevPdf);
       float w = 1.0f / (wLight + 1.0f + wCamera);

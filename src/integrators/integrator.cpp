@@ -14,7 +14,8 @@ Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& w
   if (!light.sampleLi(hit.p, u, lambda, &ls)) return Spectrum(0.0f);
   Vec3 wi = hit.shading.toLocal(ls.wi);
   const BSDFContext bc = bsdfContext(hit, lambda);
-  Spectrum f = hit.bsdf->eval(woLocal, wi, bc);
+  const BSDFEval e = hit.bsdf->evaluate(woLocal, wi, bc, false);
+  const Spectrum& f = e.f;
   if (isBlack(f)) return Spectrum(0.0f);
   // A light below the geometric surface reaches it only through a BSDF that transmits, and then
   // only if the shading normal agrees.
@@ -22,7 +23,7 @@ Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& w
   if (!scene.visible(hit, ls.wi, ls.distance)) return Spectrum(0.0f);
   float lightPdf = pmf * ls.pdf;
   float weight = 1.0f;
-  if (mis && !light.isDelta()) weight = powerHeuristic(lightPdf, hit.bsdf->pdf(woLocal, wi, bc));
+  if (mis && !light.isDelta()) weight = powerHeuristic(lightPdf, e.pdf);
   return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
 }
 
