@@ -15,24 +15,15 @@ static float cosAlpha(const Vec3& wo, const Vec3& wi) {
   return glm::dot(reflect(wo, Vec3(0, 0, 1)), wi);
 }
 
-Spectrum Phong::eval(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
-  Vec3 o = wo, i = wi;
-  if (!flipToUpperHemisphere(o, i)) return Spectrum(0.0f);
-  float ca = cosAlpha(o, i);
-  float lobe = ca > 0 ? (n_ + 2) * kInv2Pi * std::pow(ca, n_) : 0.0f;
-  return kd_ * kInvPi + ks_ * lobe;
-}
+Spectrum Phong::eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const { return evaluate(wo, wi, c, false).f; }
 
-float Phong::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext&) const {
-  Vec3 o = wo, i = wi;
-  if (!flipToUpperHemisphere(o, i)) return 0.0f;
-  return diffuseProbability_ * pdfCosineHemisphere(i) +
-         (1 - diffuseProbability_) * pdfPowerCosine(cosAlpha(o, i), n_);
-}
+float Phong::pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const { return evaluate(wo, wi, c, false).pdf; }
 
 BSDFEval Phong::evaluate(const Vec3& wo, const Vec3& wi, const BSDFContext&, bool reverse) const {
-  // eval and pdf share the lobe's cos^n α, and cos α is symmetric in wo and wi (the reflection
-  // about z only negates x and y), so the reverse density shares it as well: one powf, not three.
+  // f = kd/π + ks (n+2)/(2π) cosⁿα (modified Phong, energy-normalised), sampled as the diffuse
+  // lobe (cosine) or the specular one ((n+1)/(2π) cosⁿα) in proportion to mean kd and ks. f and
+  // both densities share cosⁿα, and cos α is symmetric in wo and wi (the reflection about z only
+  // negates x and y): one powf for all three.
   Vec3 o = wo, i = wi;
   BSDFEval e;
   if (!flipToUpperHemisphere(o, i)) return e;

@@ -58,16 +58,6 @@ class ColorTexture {
     if (!lambda.spectral && !image_) return factor_ * tint;
     return evalGeneral(uv, lambda, tint);
   }
-  Spectrum evalGeneral(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint) const {
-    const bool white = tint == Spectrum(1.0f);
-    if (!lambda.spectral) return white ? evalRGB(uv) : evalRGB(uv) * tint;
-    if (!spectrum_ || !white) return spectralReflectance(white ? evalRGB(uv) : evalRGB(uv) * tint, lambda);
-    const auto& table = spectrum_->get([&](LazySpectrum::Table& t) {
-      const RGBUplift& u = RGBUplift::instance();
-      for (int i = 0; i < kCieSamples; ++i) t[i] = u.reflectance(factor_, kLambdaMin + float(i));
-    });
-    return LazySpectrum::at(table, lambda.lambda);
-  }
   Spectrum evalRGB(const Vec2& surfaceUV) const {
     if (!image_) return factor_;
     const Vec2 uv = transformed_ ? transform_.apply(surfaceUV) : surfaceUV;
@@ -79,6 +69,17 @@ class ColorTexture {
   const Spectrum& factor() const { return factor_; }
 
  private:
+  // eval() beyond a constant RGB colour: a texture image, or the spectral uplift.
+  Spectrum evalGeneral(const Vec2& uv, const SampledWavelengths& lambda, const Spectrum& tint) const {
+    const bool white = tint == Spectrum(1.0f);
+    if (!lambda.spectral) return white ? evalRGB(uv) : evalRGB(uv) * tint;
+    if (!spectrum_ || !white) return spectralReflectance(white ? evalRGB(uv) : evalRGB(uv) * tint, lambda);
+    const auto& table = spectrum_->get([&](LazySpectrum::Table& t) {
+      const RGBUplift& u = RGBUplift::instance();
+      for (int i = 0; i < kCieSamples; ++i) t[i] = u.reflectance(factor_, kLambdaMin + float(i));
+    });
+    return LazySpectrum::at(table, lambda.lambda);
+  }
   Spectrum factor_;
   std::shared_ptr<const Image> image_;
   std::shared_ptr<const LazySpectrum> spectrum_;  // shared by copies of a constant texture
