@@ -65,10 +65,20 @@ struct GltfFixture {
     })");
   }
 
+  // This process's scratch folder, removed when the process exits (ctest runs every test case
+  // as a process of its own: without the removal each left a folder behind).
   static std::string dir() {
-    auto d = std::filesystem::temp_directory_path() / ("photonlab-tests-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d.string();
+    struct Scratch {
+      std::filesystem::path path =
+          std::filesystem::temp_directory_path() / ("photonlab-tests-" + std::to_string(::getpid()));
+      ~Scratch() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+      }
+    };
+    static const Scratch scratch;
+    std::filesystem::create_directories(scratch.path);
+    return scratch.path.string();
   }
 
   // .gltf with the buffer as a data URI.
