@@ -21,6 +21,9 @@ are in OUT already.
 
 Beside each mean relMSE the table gives the mean over each image's best 99% of pixels (the bulk
 of the error, without the few single samples that decide a 20 s run) and every run's values.
+Where both codebases ran a pair, a second table gives photonlab's mean over SmallVCM's with a
+90% bootstrap interval over the runs (ratio_of_means), and the ratios of the medians and of
+the best-99% means.
 
 Run k renders with photonlab seed k + 1 and SmallVCM seed 2000 + 100 k (each of its threads adds
 its number). Runs are therefore repeatable, and two comparisons with the same runs draw the same
@@ -178,6 +181,22 @@ def trimmed_relmse(image, reference, keep=0.99):
     return float(per_pixel[:int(per_pixel.size * keep)].mean())
 
 
+def ratio_of_means(ours, theirs, resamples=10000, level=0.90, seed=1):
+    """mean(ours) / mean(theirs) of two lists of per-run relMSE, with a percentile bootstrap
+    interval at `level`: each resample draws both lists' runs again with replacement (each
+    codebase's runs are its own independent draws). A few runs that caught a large firefly
+    decide a short render's relMSE, so the interval, not the ratio alone, says whether a
+    target such as 0.8 is shown. A fixed seed: the same runs give the same interval."""
+    import numpy as np
+    a, b = np.asarray(ours, float), np.asarray(theirs, float)
+    ratio = float(a.mean() / b.mean())
+    rng = np.random.default_rng(seed)
+    ra = a[rng.integers(0, a.size, (resamples, a.size))].mean(axis=1)
+    rb = b[rng.integers(0, b.size, (resamples, b.size))].mean(axis=1)
+    lo, hi = np.quantile(ra / rb, [(1 - level) / 2, (1 + level) / 2])
+    return ratio, float(lo), float(hi)
+
+
 def relmse(photonlab, image, reference):
     r = subprocess.run([photonlab, "compare", image, reference], check=True, capture_output=True, text=True)
     return json.loads(r.stdout.strip().splitlines()[-1])["relmse"]
@@ -208,7 +227,7 @@ def main():
     if a.tail > 0:
         run_tail(a, binary, pairs if a.methods else [("bdpt", "bpt")])
         return
-    rows = []
+    rows, ratios = [], []
     for scene in a.scenes.split(","):
         ours_ref = os.path.join(a.out, "ref-photonlab-%s.exr" % scene)
         theirs_ref = os.path.join(a.out, "ref-smallvcm-%s.hdr" % scene)
@@ -233,6 +252,12 @@ def main():
                     wall, work = run_smallvcm(binary, scene, theirs, a.seconds, out, seed=2000 + 100 * k)
                     results.setdefault(("SmallVCM", theirs), []).append(
                         (wall, work, relmse(a.photonlab, out, theirs_ref), trimmed_relmse(out, theirs_ref)))
+            if ("photonlab", ours) in results and ("SmallVCM", theirs) in results:
+                mine, other = results[("photonlab", ours)], results[("SmallVCM", theirs)]
+                r, lo, hi = ratio_of_means([x[2] for x in mine], [x[2] for x in other])
+                ratios.append((scene, ours, theirs, len(mine), r, lo, hi,
+                               statistics.median(x[2] for x in mine) / statistics.median(x[2] for x in other),
+                               sum(x[3] for x in mine) / sum(x[3] for x in other)))
             for (code, method), runs in results.items():
                 mean = sum(r[2] for r in runs) / len(runs)
                 median = statistics.median(r[2] for r in runs)
@@ -248,6 +273,13 @@ def main():
     for scene, code, method, work, wall, err, median, trimmed, each in rows:
         table.append("| %s | %s | `%s` | %s | %.1f s | %.4f | %.4f | %.4f | %s |"
                      % (scene, code, method, work, wall, err, median, trimmed, each))
+    if ratios:
+        table += ["", "| scene | photonlab / SmallVCM | runs | ratio of means (90% bootstrap interval) | ratio of medians | "
+                      "ratio of best 99% of pixels |",
+                  "|---|---|---|---|---|---|"]
+        for scene, ours, theirs, n, r, lo, hi, median, trimmed in ratios:
+            table.append("| %s | `%s` / `%s` | %d | %.2f (%.2f–%.2f) | %.2f | %.2f |"
+                         % (scene, ours, theirs, n, r, lo, hi, median, trimmed))
     text = "\n".join(table) + "\n"
     open(os.path.join(a.out, "table.md"), "w").write(text)
     print(text)

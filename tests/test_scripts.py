@@ -370,6 +370,30 @@ def test_compare_smallvcm_first_run_draws_other_seeds_and_reports_the_median(tmp
     # photonlab: 49, 64, 81 (mean 64.6667, median 64); SmallVCM: 2600², 2700², 2800².
     assert rows[2].startswith("| point | photonlab | `bdpt` | 40 iterations | 20.0 s | 64.6667 | 64.0000 | 0.5000 |")
     assert rows[3].startswith("| point | SmallVCM | `bpt` | 30 iterations | 20.0 s | 7296666.6667 | 7290000.0000 | 0.5000 |")
+    # The pair's ratios: 64.67 / 7.3e6 and 64 / 7.29e6 round to 0.00; the best-99% means are equal.
+    assert rows[-1] == "| point | `bdpt` / `bpt` | 3 | 0.00 (0.00–0.00) | 0.00 | 1.00 |"
+
+
+def test_compare_smallvcm_ratio_of_means_and_its_bootstrap_interval():
+    import compare_smallvcm as cs
+    # Runs without spread: the ratio is exact and so is every resample's.
+    assert cs.ratio_of_means([2.0, 2.0, 2.0], [4.0, 4.0, 4.0, 4.0]) == (0.5, 0.5, 0.5)
+    # Coverage: 200 comparisons of 30 runs each, photonlab's relMSE lognormal with mean 0.8 and
+    # SmallVCM's with mean 1 (σ = 0.6 in the log: a 20 s run's spread). A 90% interval should
+    # hold the true ratio 0.8 in about 90% of them; the binomial standard deviation over 200 is
+    # 2.1%, and the percentile bootstrap of a mean of 30 skewed runs covers a little less than
+    # its level, so 82–97% (an interval that ignored either codebase's spread would cover far
+    # less, one that was too wide all 200 times).
+    rng = np.random.default_rng(7)
+    sigma = 0.6
+    covered = 0
+    for _ in range(200):
+        ours = 0.8 * np.exp(rng.normal(-sigma * sigma / 2, sigma, 30))
+        theirs = np.exp(rng.normal(-sigma * sigma / 2, sigma, 30))
+        r, lo, hi = cs.ratio_of_means(ours, theirs, resamples=1000)
+        assert lo <= r <= hi
+        covered += lo <= 0.8 <= hi
+    assert 0.82 * 200 <= covered <= 0.97 * 200
 
 
 def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulates_rates(tmp_path):
