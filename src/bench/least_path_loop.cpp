@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "bench/least_path_scene.h"
 #include "bsdfs/lambertian.h"
 #include "core/parallel.h"
 #include "core/rng.h"
@@ -13,16 +14,6 @@
 namespace pl {
 
 namespace {
-
-// What the loop knows of a triangle: all it needs at a hit.
-struct Triangle {
-  Vec3 p0, p1, p2;
-  Vec3 n;          // unit, on the counter-clockwise side (the side an area light emits from)
-  Vec3 albedo;     // ρ of its Lambertian
-  Vec3 Le{0.0f};   // emitted radiance (front side only); zero where it does not emit
-  float area = 0;
-  int light = -1;  // its index in Scene::lights(), or -1
-};
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -57,17 +48,16 @@ std::string leastPathLoopUnsupported(const Scene& scene) {
   return {};
 }
 
-LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp, int maxDepth, int threads, uint64_t seed) {
+LeastPathScene::LeastPathScene(const Scene& scene) {
   if (const std::string why = leastPathLoopUnsupported(scene); !why.empty()) throw Error("least path loop: " + why);
-
   // Triangles in one flat array, indexed by Embree's primID on a scene of its own.
   const uint32_t count = uint32_t(scene.triangleCount());
-  std::vector<Triangle> triangles(count);
-  std::vector<uint32_t> lightTriangle(scene.lights().size(), 0);
+  triangles.resize(count);
+  lightTriangle.assign(scene.lights().size(), 0);
   std::unordered_map<const Light*, int> lightIndex;
   for (size_t i = 0; i < scene.lights().size(); ++i) lightIndex[scene.lights()[i].get()] = int(i);
   for (uint32_t t = 0; t < count; ++t) {
-    Triangle& tri = triangles[t];
+    LeastTriangle& tri = triangles[t];
     const auto v = scene.trianglePositions(t);
     tri.p0 = v[0], tri.p1 = v[1], tri.p2 = v[2];
     const Vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
@@ -81,8 +71,8 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
       lightTriangle[size_t(tri.light)] = t;
     }
   }
-  RTCDevice device = rtcNewDevice(nullptr);
-  RTCScene rtc = rtcNewScene(device);
+  device = rtcNewDevice(nullptr);
+  rtc = rtcNewScene(device);
   rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);  // as Scene builds its own
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3 * size_t(count)));
@@ -98,7 +88,18 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
   rtcAttachGeometry(rtc, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(rtc);
+}
 
+LeastPathScene::~LeastPathScene() {
+  rtcReleaseScene(rtc);
+  rtcReleaseDevice(device);
+}
+
+LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp, int maxDepth, int threads, uint64_t seed) {
+  const LeastPathScene least(scene);
+  const std::vector<LeastTriangle>& triangles = least.triangles;
+  const std::vector<uint32_t>& lightTriangle = least.lightTriangle;
+  const RTCScene rtc = least.rtc;
   const AliasTable& lightPick = scene.lightDistribution();
   const float eps = scene.epsilon();
   LeastPathResult result;
@@ -131,7 +132,7 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
           rtcIntersect1(rtc, &context, &rh);
           ++rays;
           if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-          const Triangle& tri = triangles[rh.hit.primID];
+          const LeastTriangle& tri = triangles[rh.hit.primID];
           const Vec3 p = ray.o + rh.ray.tfar * ray.d;
           const float cosFront = -glm::dot(tri.n, ray.d);  // > 0: the ray meets the front face
 
@@ -153,7 +154,7 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
           {
             float pmf;
             const size_t index = lightPick.sample(rng.uniform(), &pmf);
-            const Triangle& light = triangles[lightTriangle[index]];
+            const LeastTriangle& light = triangles[lightTriangle[index]];
             const float v = rng.uniform(), u = rng.uniform();  // the order Sampler::get2D draws them
             const Vec2 b = sampleUniformTriangle(Vec2(u, v));
             const Vec3 target = b.x * light.p0 + b.y * light.p1 + (1 - b.x - b.y) * light.p2;
@@ -207,8 +208,6 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
     rowSum[y] = sum, rowSumSquares[y] = sumSquares;
   });
   result.seconds = secondsSince(t0);
-  rtcReleaseScene(rtc);
-  rtcReleaseDevice(device);
 
   double sum = 0, sumSquares = 0;
   for (int y = 0; y < height; ++y) {
