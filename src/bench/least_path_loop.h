@@ -36,4 +36,10 @@ std::string leastPathLoopUnsupported(const Scene& scene);
 // `--max-depth`), on `threads` threads. Throws pl::Error where leastPathLoopUnsupported says why.
 LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp, int maxDepth, int threads, uint64_t seed);
 
+// The same loop with 16 paths in SIMD lanes (least_path_loop_simd.cpp): a row's paths for one
+// sample index advance bounce by bounce, their rays in Embree's 16-ray packets, their shading in
+// vector registers. Each path draws the same random numbers as in leastPathLoop, so the images
+// agree pixel by pixel up to rounding; the rate is what a vectorised wavefront design buys.
+LeastPathResult leastPathLoopSimd(const Scene& scene, int width, int height, int spp, int maxDepth, int threads, uint64_t seed);
+
 }  // namespace pl

@@ -222,9 +222,10 @@ auto bestOf5(Measure measure) {
 
 bool operator>(const PathRate& a, const PathRate& b) { return a.samplesPerSecond > b.samplesPerSecond; }
 
-// The least path tracer (bench/least_path_loop.h) at the path tracer's resolution, depth and spp.
-PathRate leastPathRate(const Scene& scene, int threads, int spp) {
-  const LeastPathResult r = leastPathLoop(scene, 256, 256, spp, 64, threads, 1);
+// The least path tracer (bench/least_path_loop.h) at the path tracer's resolution, depth and spp:
+// one path at a time, or 16 in SIMD lanes.
+PathRate leastPathRate(const Scene& scene, int threads, int spp, bool simd = false) {
+  const LeastPathResult r = (simd ? leastPathLoopSimd : leastPathLoop)(scene, 256, 256, spp, 64, threads, 1);
   return {256.0 * 256.0 * spp / r.seconds, (r.closestRays + r.shadowRays) / r.seconds, r.shadowRays / r.seconds};
 }
 
@@ -304,6 +305,7 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
   EmbreeRates embree[2];
   PathRate path[2] = {{0, 0}, {0, 0}}, spectral[2] = {{0, 0}, {0, 0}};
   PathRate least[2] = {{0, 0}, {0, 0}};
+  PathRate leastSimd[2] = {{0, 0}, {0, 0}};
   const std::string leastUnsupported = leastPathLoopUnsupported(*scene);
   TraceRate trace[2] = {{0, 0}, {0, 0}};
   auto keepBest = [](auto& best, const auto& m) {
@@ -313,7 +315,10 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
     for (int c = 0; c < 2; ++c) {
       keepBestRates(embree[c], embreeRaysPerSecond(*scene, columns[c]));
       keepBest(path[c], pathTracerRate(*scene, columns[c], spp));
-      if (leastUnsupported.empty()) keepBest(least[c], leastPathRate(*scene, columns[c], spp));
+      if (leastUnsupported.empty()) {
+        keepBest(least[c], leastPathRate(*scene, columns[c], spp));
+        keepBest(leastSimd[c], leastPathRate(*scene, columns[c], spp, true));
+      }
       keepBest(spectral[c], pathTracerRate(*scene, columns[c], spp, true));
       keepBest(trace[c], photonTraceRate(*scene, columns[c], 500000));
     }
@@ -348,6 +353,10 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
                 pathClosest, pathShadow, leastClosest, leastShadow);
     std::printf("| path tracer / least path loop | %.0f%% | %.0f%% |\n", 100 * path[0].samplesPerSecond / least[0].samplesPerSecond,
                 100 * path[1].samplesPerSecond / least[1].samplesPerSecond);
+    std::printf("| least path loop in 16 SIMD lanes, wavefront (k samples/s) | %.1f | %.1f |\n",
+                leastSimd[0].samplesPerSecond / 1e3, leastSimd[1].samplesPerSecond / 1e3);
+    std::printf("| 16 lanes / one path at a time | %.2fx | %.2fx |\n", leastSimd[0].samplesPerSecond / least[0].samplesPerSecond,
+                leastSimd[1].samplesPerSecond / least[1].samplesPerSecond);
   } else {
     std::printf("| least path loop | (%s) | |\n", leastUnsupported.c_str());
   }

@@ -53,6 +53,11 @@ class Rng {
   // Uniform in [0, 1): 24 random mantissa bits, so 1.0f is never returned.
   float uniform() { return float(nextU32() >> 8) * 0x1p-24f; }
 
+  // The generator's two words, for code that advances many streams side by side in SIMD lanes
+  // (bench/least_path_loop_simd.cpp): state' = state · 6364136223846793005 + increment.
+  uint64_t state() const { return state_; }
+  uint64_t increment() const { return inc_; }
+
  private:
   uint64_t state_, inc_;
 };
