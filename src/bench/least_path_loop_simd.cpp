@@ -25,51 +25,16 @@
 
 #include "bench/least_path_loop.h"
 #include "bench/least_path_scene.h"
+#include "core/lanes.h"
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "integrators/integrator.h"
-
-// Vectors of 64 bytes passed between inlined helpers: GCC warns that their ABI differs without
-// AVX-512. Nothing here crosses a library boundary.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-// The row kernel is compiled three times (AVX-512, AVX2, baseline x86-64) and the first the
-// CPU supports is chosen at load time, so the build stays portable (no -march).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PL_LANE_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define PL_LANE_CLONES
-#endif
 
 namespace pl {
 
 namespace {
 
-constexpr int kLanes = 16;
-typedef float Floats __attribute__((vector_size(4 * kLanes)));
-typedef int32_t Ints __attribute__((vector_size(4 * kLanes)));       // comparisons give 0 or −1
-typedef uint64_t Words __attribute__((vector_size(8 * kLanes / 2)));  // half the lanes, 64-bit
-typedef float HalfFloats __attribute__((vector_size(4 * kLanes / 2)));
-
-PL_HOT_INLINE Floats load(const float* p) {
-  Floats v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-PL_HOT_INLINE Ints load(const int32_t* p) {
-  Ints v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-PL_HOT_INLINE void store(float* p, Floats v) { std::memcpy(p, &v, sizeof v); }
-PL_HOT_INLINE void store(int32_t* p, Ints v) { std::memcpy(p, &v, sizeof v); }
-PL_HOT_INLINE Floats splat(float x) { return Floats{} + x; }
-PL_HOT_INLINE Floats sqrt(Floats x) {
-  for (int k = 0; k < kLanes; ++k) x[k] = std::sqrt(x[k]);  // one vsqrtps per register
-  return x;
-}
-PL_HOT_INLINE Floats max(Floats a, Floats b) { return a > b ? a : b; }
-PL_HOT_INLINE Floats min(Floats a, Floats b) { return a < b ? a : b; }
+using namespace lanes;
 
 // 16 paths' state, one array per quantity (structure of arrays).
 struct alignas(64) Lanes {
@@ -82,44 +47,8 @@ struct alignas(64) Lanes {
   int32_t depth[kLanes], pixel[kLanes], cameraRay[kLanes], alive[kLanes];
 };
 
-// PCG32's output for eight 64-bit states (Rng::nextU32), in [0, 2³²).
-PL_HOT_INLINE Words pcgOutput(Words old) {
-  const Words xorshifted = (((old >> 18) ^ old) >> 27) & 0xffffffffu;
-  const Words rot = old >> 59;
-  return ((xorshifted >> rot) | (xorshifted << ((-rot) & 31))) & 0xffffffffu;
-}
-
-// Rng::uniform() for the lanes where `draw` is set (the others' streams stay where they are):
-// 24 random mantissa bits, in [0, 1).
-PL_HOT_INLINE Floats uniforms(Lanes& P, Ints draw) {
-  alignas(64) float out[kLanes];
-  for (int half = 0; half < 2; ++half) {
-    Words state, increment, mask;
-    std::memcpy(&state, P.state + 8 * half, sizeof state);
-    std::memcpy(&increment, P.increment + 8 * half, sizeof increment);
-    for (int k = 0; k < 8; ++k) mask[k] = draw[8 * half + k] ? ~uint64_t(0) : 0;
-    const Words next = state * 6364136223846793005ULL + increment;
-    const Words kept = (next & mask) | (state & ~mask);
-    std::memcpy(P.state + 8 * half, &kept, sizeof kept);
-    const HalfFloats u = __builtin_convertvector(pcgOutput(state) >> 8, HalfFloats) * 0x1p-24f;
-    std::memcpy(out + 8 * half, &u, sizeof u);
-  }
-  return load(out);
-}
-
-// sin 2πu and cos 2πu (core/sampling.h sinCos2Pi, lane by lane): the nearest quarter turn, then
-// minimax polynomials on [−π/4, π/4].
-PL_HOT_INLINE void sinCos2Pi(Floats u, Floats* sinOut, Floats* cosOut) {
-  const Floats t = 4.0f * u;
-  const Ints q = __builtin_convertvector(t + 0.5f, Ints);
-  const Floats x = (t - __builtin_convertvector(q, Floats)) * (kPi / 2), x2 = x * x;
-  const Floats s = x + x * x2 * (-1.6666654611e-1f + x2 * (8.3321608736e-3f + x2 * -1.9515295891e-4f));
-  const Floats c = 1.0f - 0.5f * x2 + x2 * x2 * (4.166664568298827e-2f + x2 * (-1.388731625493765e-3f + x2 * 2.443315711809948e-5f));
-  const Ints odd = (q & 1) != 0;
-  const Floats s1 = odd ? c : s, c1 = odd ? s : c;
-  *sinOut = (q & 2) != 0 ? -s1 : s1;
-  *cosOut = ((q + 1) & 2) != 0 ? -c1 : c1;
-}
+// Rng::uniform() for the lanes where `draw` is set.
+PL_HOT_INLINE Floats uniforms(Lanes& P, Ints draw) { return lanes::uniforms(P.state, P.increment, draw); }
 
 struct RowCounts {
   uint64_t rays = 0, shadowRays = 0;
@@ -231,17 +160,9 @@ PL_HOT_INLINE void bounce(Lanes& P, int live, const LeastPathScene& least, const
   sinCos2Pi(phi, &sinPhi, &cosPhi);
   const Floats r = sqrt(radius2);
   const Floats localX = r * cosPhi, localY = r * sinPhi, localZ = sqrt(max(Floats{}, 1.0f - radius2));
-  Ints szBits, signBits;  // sign = copysign(1, n.z), as Frame's (−0 gives −1)
-  std::memcpy(&szBits, &sz, sizeof sz);
-  signBits = (szBits & INT32_MIN) | 0x3f800000;
-  Floats sign;
-  std::memcpy(&sign, &signBits, sizeof sign);
-  const Floats a = -1.0f / (sign + sz), b = sx * sy * a;
-  const Floats s0 = 1.0f + sign * sx * sx * a, s1 = sign * b, s2 = -sign * sx;
-  const Floats t0 = b, t1 = sign + sy * sy * a, t2 = -sy;
-  store(P.dx, s0 * localX + t0 * localY + sx * localZ);
-  store(P.dy, s1 * localX + t1 * localY + sy * localZ);
-  store(P.dz, s2 * localX + t2 * localY + sz * localZ);
+  Floats dirX, dirY, dirZ;
+  toWorld(sx, sy, sz, localX, localY, localZ, &dirX, &dirY, &dirZ);
+  store(P.dx, dirX), store(P.dy, dirY), store(P.dz, dirZ);
   const Floats bsdfPdf = localZ * kInvPi;
   store(P.bsdfPdf, bsdfPdf);
   go &= bsdfPdf > 0;

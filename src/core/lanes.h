@@ -1,0 +1,124 @@
+// Sixteen values in one vector register: the arithmetic of code that runs 16 paths side by side
+// in SIMD lanes (bench/least_path_loop_simd.cpp, integrators/path_lanes.cpp). GCC's vector
+// extensions: +, −, ×, ÷ and comparisons act lane by lane (a comparison gives 0 or −1 per lane),
+// and `mask ? a : b` selects. A file using them compiles its kernels for several instruction sets
+// (PL_LANE_CLONES), so the build needs no -march.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "core/common.h"
+
+// Vectors of 64 bytes passed between inlined helpers: GCC warns that their ABI differs without
+// AVX-512. None crosses a library boundary.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+// A kernel compiled for AVX-512, AVX2 and baseline x86-64; the first the CPU has is chosen when
+// the program loads.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PL_LANE_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define PL_LANE_CLONES
+#endif
+
+namespace pl::lanes {
+
+constexpr int kLanes = 16;
+typedef float Floats __attribute__((vector_size(4 * kLanes)));
+typedef int32_t Ints __attribute__((vector_size(4 * kLanes)));
+typedef uint64_t Words __attribute__((vector_size(8 * kLanes / 2)));  // half the lanes, 64-bit
+typedef float HalfFloats __attribute__((vector_size(4 * kLanes / 2)));
+
+PL_HOT_INLINE Floats load(const float* p) {
+  Floats v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+PL_HOT_INLINE Ints load(const int32_t* p) {
+  Ints v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+PL_HOT_INLINE void store(float* p, Floats v) { std::memcpy(p, &v, sizeof v); }
+PL_HOT_INLINE void store(int32_t* p, Ints v) { std::memcpy(p, &v, sizeof v); }
+PL_HOT_INLINE Floats splat(float x) { return Floats{} + x; }
+PL_HOT_INLINE Floats sqrt(Floats x) {
+  for (int k = 0; k < kLanes; ++k) x[k] = std::sqrt(x[k]);  // one vsqrtps per register
+  return x;
+}
+PL_HOT_INLINE Floats abs(Floats x) { return x < 0 ? -x : x; }
+PL_HOT_INLINE Floats max(Floats a, Floats b) { return a > b ? a : b; }
+PL_HOT_INLINE Floats min(Floats a, Floats b) { return a < b ? a : b; }
+// copysign(1, x), −0 giving −1 (as Frame's basis takes it).
+PL_HOT_INLINE Floats signOf(Floats x) {
+  Ints bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits = (bits & INT32_MIN) | 0x3f800000;
+  Floats s;
+  std::memcpy(&s, &bits, sizeof s);
+  return s;
+}
+
+// PCG32's output for eight 64-bit states (Rng::nextU32), in [0, 2³²).
+PL_HOT_INLINE Words pcgOutput(Words old) {
+  const Words xorshifted = (((old >> 18) ^ old) >> 27) & 0xffffffffu;
+  const Words rot = old >> 59;
+  return ((xorshifted >> rot) | (xorshifted << ((-rot) & 31))) & 0xffffffffu;
+}
+
+// Rng::uniform() for 16 streams (Rng::state() and increment() per lane), advancing only those
+// where `draw` is set: 24 random mantissa bits, in [0, 1).
+PL_HOT_INLINE Floats uniforms(uint64_t* state, const uint64_t* increment, Ints draw) {
+  alignas(64) float out[kLanes];
+  for (int half = 0; half < 2; ++half) {
+    Words s, inc, mask;
+    std::memcpy(&s, state + 8 * half, sizeof s);
+    std::memcpy(&inc, increment + 8 * half, sizeof inc);
+    for (int k = 0; k < 8; ++k) mask[k] = draw[8 * half + k] ? ~uint64_t(0) : 0;
+    const Words next = s * 6364136223846793005ULL + inc;
+    const Words kept = (next & mask) | (s & ~mask);
+    std::memcpy(state + 8 * half, &kept, sizeof kept);
+    const HalfFloats u = __builtin_convertvector(pcgOutput(s) >> 8, HalfFloats) * 0x1p-24f;
+    std::memcpy(out + 8 * half, &u, sizeof u);
+  }
+  return load(out);
+}
+
+// sin 2πu and cos 2πu (core/sampling.h sinCos2Pi, lane by lane): the nearest quarter turn, then
+// minimax polynomials on [−π/4, π/4].
+PL_HOT_INLINE void sinCos2Pi(Floats u, Floats* sinOut, Floats* cosOut) {
+  const Floats t = 4.0f * u;
+  const Ints q = __builtin_convertvector(t + 0.5f, Ints);
+  const Floats x = (t - __builtin_convertvector(q, Floats)) * (kPi / 2), x2 = x * x;
+  const Floats s = x + x * x2 * (-1.6666654611e-1f + x2 * (8.3321608736e-3f + x2 * -1.9515295891e-4f));
+  const Floats c = 1.0f - 0.5f * x2 + x2 * x2 * (4.166664568298827e-2f + x2 * (-1.388731625493765e-3f + x2 * 2.443315711809948e-5f));
+  const Ints odd = (q & 1) != 0;
+  const Floats s1 = odd ? c : s, c1 = odd ? s : c;
+  *sinOut = (q & 2) != 0 ? -s1 : s1;
+  *cosOut = ((q + 1) & 2) != 0 ? -c1 : c1;
+}
+
+// Duff et al.'s orthonormal basis around unit n (core/frame.h Frame), applied to a local
+// direction: s·x + t·y + n·z.
+PL_HOT_INLINE void toWorld(Floats nx, Floats ny, Floats nz, Floats x, Floats y, Floats z, Floats* wx, Floats* wy, Floats* wz) {
+  const Floats sign = signOf(nz);
+  const Floats a = -1.0f / (sign + nz), b = nx * ny * a;
+  const Floats s0 = 1.0f + sign * nx * nx * a, s1 = sign * b, s2 = -sign * nx;
+  const Floats t0 = b, t1 = sign + ny * ny * a, t2 = -ny;
+  *wx = s0 * x + t0 * y + nx * z;
+  *wy = s1 * x + t1 * y + ny * z;
+  *wz = s2 * x + t2 * y + nz * z;
+}
+// Its inverse: (v·s, v·t, v·n).
+PL_HOT_INLINE void toLocal(Floats nx, Floats ny, Floats nz, Floats vx, Floats vy, Floats vz, Floats* x, Floats* y, Floats* z) {
+  const Floats sign = signOf(nz);
+  const Floats a = -1.0f / (sign + nz), b = nx * ny * a;
+  const Floats s0 = 1.0f + sign * nx * nx * a, s1 = sign * b, s2 = -sign * nx;
+  const Floats t0 = b, t1 = sign + ny * ny * a, t2 = -ny;
+  *x = vx * s0 + vy * s1 + vz * s2;
+  *y = vx * t0 + vy * t1 + vz * t2;
+  *z = vx * nx + vy * ny + vz * nz;
+}
+
+}  // namespace pl::lanes
