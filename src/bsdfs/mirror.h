@@ -14,6 +14,7 @@ class Mirror final : public BSDF {
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   bool isDelta() const override { return true; }
   const char* name() const override { return "mirror"; }
+  const ColorTexture& reflectance() const { return F0_; }  // F0
 
  private:
   ColorTexture F0_;

@@ -32,6 +32,8 @@ class Sampler {
     return Vec2(rng_.uniform(), y);
   }
   bool sobol() const { return sobol_; }
+  // The stream independent draws come from (integrators/path_lanes.cpp draws from it in lanes).
+  const Rng& rng() const { return rng_; }
 
  private:
   // Out of line: a Sobol' point costs a hash chain, and the independent draws inline without it.

@@ -54,6 +54,9 @@ class AreaLight final : public Light {
   void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const override;
   float area() const { return area_; }
   const Vec3& normal() const { return frame_.n; }
+  // Its corners (y = b0 p0 + b1 p1 + (1 − b0 − b1) p2 in sampleLi) and whether both faces emit.
+  const Vec3& corner(int i) const { return i == 0 ? p0_ : i == 1 ? p1_ : p2_; }
+  bool twoSided() const { return twoSided_; }
 
  private:
   // Texture coordinates at barycentrics (b0, b1) (y = b0 p0 + b1 p1 + (1 − b0 − b1) p2).

@@ -81,15 +81,16 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. Pixels go to the integrator kPacket
     // at a time (neighbours in the row), for integrators that trace their rays together; each
-    // keeps its own stream and sampler. The budget is polled per such group.
+    // keeps its own stream and sampler. The budget is polled per such group (a whole row for an
+    // integrator that takes one: PixelIntegrator::packetSize).
     parallelFor(size_t(H), threads, [&](size_t y, int) {
-      constexpr int kPacket = Scene::kPacket;
-      for (int x0 = 0; x0 < W; x0 += kPacket) {
+      const int packet = std::max(1, std::min(integrator.packetSize(), W));
+      std::vector<CameraPath> paths(static_cast<size_t>(packet));
+      std::vector<std::optional<Sampler>> samplers(static_cast<size_t>(packet));
+      std::vector<PixelIntegrator::CameraSample> samples(static_cast<size_t>(packet));
+      for (int x0 = 0; x0 < W; x0 += packet) {
         if (budget.expired()) return;
-        const int n = std::min(kPacket, W - x0);
-        CameraPath paths[kPacket];
-        std::optional<Sampler> samplers[kPacket];
-        PixelIntegrator::CameraSample samples[kPacket];
+        const int n = std::min(packet, W - x0);
         for (int k = 0; k < n; ++k) {
           const int x = x0 + k;
           const uint64_t pixel = uint64_t(y) * W + x;
@@ -98,7 +99,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
           jitterFromSampler(scene, x, int(y), W, H, sampler, &paths[k].ray);
           samples[k] = {paths[k].ray, &paths[k].lambda, &sampler};
         }
-        integrator.LiPacket(samples, n, scene);
+        integrator.LiPacket(samples.data(), n, scene);
         for (int k = 0; k < n; ++k) {
           const uint64_t pixel = uint64_t(y) * W + x0 + k;
           Spectrum L = samples[k].L;

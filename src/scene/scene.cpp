@@ -18,6 +18,7 @@ thread_local RayCounter rayCounter;
 
 uint64_t Scene::raysTraced() { return finishedThreadRays.load() + rayCounter.count; }
 uint64_t Scene::shadowRaysTraced() { return finishedThreadShadowRays.load() + rayCounter.shadow; }
+void Scene::countRays(uint64_t closest, uint64_t shadow) { rayCounter.count += closest + shadow, rayCounter.shadow += shadow; }
 
 Scene::Scene() {
   device_ = rtcNewDevice(nullptr);
@@ -794,6 +795,23 @@ std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {
   }
   if (inst.mirrors) std::swap(v[1], v[2]);
   return v;
+}
+
+bool Scene::triangleNormals(uint32_t primitive, std::array<Vec3, 3>* normals) const {
+  uint32_t instance, part, primID;
+  locate(primitive, &instance, &part, &primID);
+  const Instance& inst = instances_[instance];
+  const Prototype& proto = prototypes_[inst.prototype];
+  const Part& pt = proto.parts[part];
+  if (pt.firstNormal < 0) return false;
+  const std::array<uint32_t, 3> idx = corners(proto, pt, primID);
+  std::array<Vec3, 3>& n = *normals;
+  for (int k = 0; k < 3; ++k) {
+    n[k] = proto.normals[size_t(pt.firstNormal) + idx[k]];
+    if (inst.prototype != 0) n[k] = inst.normalMatrix * n[k];
+  }
+  if (inst.mirrors) std::swap(n[1], n[2]);
+  return true;
 }
 
 uint32_t Scene::triangleMaterial(uint32_t primitive) const {

@@ -202,6 +202,9 @@ class Scene {
   // A triangle's corners (world space) and material index.
   std::array<Vec3, 3> trianglePositions(uint32_t primitive) const;
   uint32_t triangleMaterial(uint32_t primitive) const;
+  // A triangle's vertex normals in trianglePositions' corner order (world space, as stored: the
+  // hit's shading normal is their interpolation, normalised); false if its mesh has none.
+  bool triangleNormals(uint32_t primitive, std::array<Vec3, 3>* normals) const;
   // The area light a triangle is (null if none): an emissive material's triangle, unless its
   // emissive texture is black over it.
   const AreaLight* triangleLight(uint32_t primitive) const;
@@ -237,6 +240,8 @@ class Scene {
   // thread without atomics; a thread adds its count to the total when it exits.
   static uint64_t raysTraced();
   static uint64_t shadowRaysTraced();  // the occluded() queries among them
+  // Adds rays that code with its own Embree queries traced (integrators/path_lanes.cpp).
+  static void countRays(uint64_t closest, uint64_t shadow);
   std::string source;  // file it was loaded from, for messages and metadata
 
  private:
