@@ -161,7 +161,7 @@ PL_HOT_INLINE void bounce(Lanes& P, int live, const LeastPathScene& least, const
   const Floats r = sqrt(radius2);
   const Floats localX = r * cosPhi, localY = r * sinPhi, localZ = sqrt(max(Floats{}, 1.0f - radius2));
   Floats dirX, dirY, dirZ;
-  toWorld(sx, sy, sz, localX, localY, localZ, &dirX, &dirY, &dirZ);
+  Frames(sx, sy, sz).toWorld(localX, localY, localZ, &dirX, &dirY, &dirZ);
   store(P.dx, dirX), store(P.dy, dirY), store(P.dz, dirZ);
   const Floats bsdfPdf = localZ * kInvPi;
   store(P.bsdfPdf, bsdfPdf);

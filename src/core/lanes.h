@@ -50,6 +50,12 @@ PL_HOT_INLINE Floats sqrt(Floats x) {
 PL_HOT_INLINE Floats abs(Floats x) { return x < 0 ? -x : x; }
 PL_HOT_INLINE Floats max(Floats a, Floats b) { return a > b ? a : b; }
 PL_HOT_INLINE Floats min(Floats a, Floats b) { return a < b ? a : b; }
+// Whether any lane of a mask is set: work that few lanes need is skipped when none does.
+PL_HOT_INLINE bool any(Ints m) {
+  int32_t r = 0;
+  for (int k = 0; k < kLanes; ++k) r |= m[k];
+  return r != 0;
+}
 // copysign(1, x), −0 giving −1 (as Frame's basis takes it).
 PL_HOT_INLINE Floats signOf(Floats x) {
   Ints bits;
@@ -99,26 +105,28 @@ PL_HOT_INLINE void sinCos2Pi(Floats u, Floats* sinOut, Floats* cosOut) {
   *cosOut = ((q + 1) & 2) != 0 ? -c1 : c1;
 }
 
-// Duff et al.'s orthonormal basis around unit n (core/frame.h Frame), applied to a local
-// direction: s·x + t·y + n·z.
-PL_HOT_INLINE void toWorld(Floats nx, Floats ny, Floats nz, Floats x, Floats y, Floats z, Floats* wx, Floats* wy, Floats* wz) {
-  const Floats sign = signOf(nz);
-  const Floats a = -1.0f / (sign + nz), b = nx * ny * a;
-  const Floats s0 = 1.0f + sign * nx * nx * a, s1 = sign * b, s2 = -sign * nx;
-  const Floats t0 = b, t1 = sign + ny * ny * a, t2 = -ny;
-  *wx = s0 * x + t0 * y + nx * z;
-  *wy = s1 * x + t1 * y + ny * z;
-  *wz = s2 * x + t2 * y + nz * z;
-}
-// Its inverse: (v·s, v·t, v·n).
-PL_HOT_INLINE void toLocal(Floats nx, Floats ny, Floats nz, Floats vx, Floats vy, Floats vz, Floats* x, Floats* y, Floats* z) {
-  const Floats sign = signOf(nz);
-  const Floats a = -1.0f / (sign + nz), b = nx * ny * a;
-  const Floats s0 = 1.0f + sign * nx * nx * a, s1 = sign * b, s2 = -sign * nx;
-  const Floats t0 = b, t1 = sign + ny * ny * a, t2 = -ny;
-  *x = vx * s0 + vy * s1 + vz * s2;
-  *y = vx * t0 + vy * t1 + vz * t2;
-  *z = vx * nx + vy * ny + vz * nz;
-}
+// Duff et al.'s orthonormal basis (s, t, n) around unit normals n, 16 at once (core/frame.h
+// Frame, the same arithmetic).
+struct Frames {
+  Floats sx, sy, sz, tx, ty, tz, nx, ny, nz;
+  PL_HOT_INLINE Frames(Floats x, Floats y, Floats z) : nx(x), ny(y), nz(z) {
+    const Floats sign = signOf(nz);
+    const Floats a = -1.0f / (sign + nz), b = nx * ny * a;
+    sx = 1.0f + sign * nx * nx * a, sy = sign * b, sz = -sign * nx;
+    tx = b, ty = sign + ny * ny * a, tz = -ny;
+  }
+  // s·x + t·y + n·z.
+  PL_HOT_INLINE void toWorld(Floats x, Floats y, Floats z, Floats* wx, Floats* wy, Floats* wz) const {
+    *wx = sx * x + tx * y + nx * z;
+    *wy = sy * x + ty * y + ny * z;
+    *wz = sz * x + tz * y + nz * z;
+  }
+  // (v·s, v·t, v·n).
+  PL_HOT_INLINE void toLocal(Floats vx, Floats vy, Floats vz, Floats* x, Floats* y, Floats* z) const {
+    *x = vx * sx + vy * sy + vz * sz;
+    *y = vx * tx + vy * ty + vz * tz;
+    *z = vx * nx + vy * ny + vz * nz;
+  }
+};
 
 }  // namespace pl::lanes

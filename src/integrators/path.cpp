@@ -13,7 +13,14 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
 // A row's neighbouring camera rays start together and run nearly parallel: Embree traces them
 // as one coherent packet, which costs less per ray than one at a time. The paths then go on
 // one by one; the packet's hits are the one-ray query's bit for bit, so the image is the same.
+void PathIntegrator::preprocess(const Scene& scene, uint64_t, int, const Budget&) {
+  lanes_.reset();
+  lanesUnused_ = lanesWanted_ ? PathLanes::unsupported(scene) : "lanes off, or spectral, or Sobol' samples";
+  if (lanesUnused_.empty()) lanes_ = std::make_unique<PathLanes>(scene);
+}
+
 void PathIntegrator::LiPacket(CameraSample* samples, int n, const Scene& scene) const {
+  if (lanes_) return lanes_->trace(samples, n, maxDepth_);
   Ray rays[Scene::kPacket];
   bool active[Scene::kPacket] = {}, found[Scene::kPacket];
   SurfaceHit hits[Scene::kPacket];
@@ -86,9 +93,13 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
 
 static const IntegratorRegistration registration({
     "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
-    {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
-    [](const ParamSet& p, const RenderOptions&) {
-      return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol");
+    {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples"),
+     params::choice("lanes", "run a row's paths 16 at a time in SIMD lanes where the scene allows (RGB, independent samples; "
+                    "Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster",
+                    "on", {"on", "off"})},
+    [](const ParamSet& p, const RenderOptions& o) {
+      return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol",
+                                              p.choice("lanes") == "on", o.spectral);
     }});
 
 }  // namespace pl

@@ -1,5 +1,8 @@
 #pragma once
+#include <memory>
+
 #include "integrators/integrator.h"
+#include "integrators/path_lanes.h"
 
 namespace pl {
 
@@ -9,11 +12,22 @@ namespace pl {
 // Solves L(x, ωo) = Le + ∫ f(ωo, ωi) L(x', −ωi) |cosθi| dωi without bias (up to maxDepth).
 // --sampler sobol draws each path's first random numbers from Owen-scrambled Sobol' points over
 // the pixel's samples (core/sampler.h).
+//
+// `lanes` (the default): where the scene and the options allow (PathLanes::unsupported, RGB,
+// independent samples), a row's paths run 16 at a time in SIMD lanes (integrators/path_lanes.h),
+// the same estimator with the same random numbers; elsewhere, and with lanes off, one at a time.
 class PathIntegrator final : public PixelIntegrator {
  public:
-  explicit PathIntegrator(int maxDepth, bool sobol = false) : maxDepth_(maxDepth), sobol_(sobol) {}
+  explicit PathIntegrator(int maxDepth, bool sobol = false, bool lanes = false, bool spectral = false)
+      : maxDepth_(maxDepth), sobol_(sobol), lanesWanted_(lanes && !sobol && !spectral) {}
   Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   void LiPacket(CameraSample* samples, int n, const Scene& scene) const override;
+  void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) override;
+  int packetSize() const override { return lanes_ ? kLanesRow : Scene::kPacket; }
+  // Whether the last render's scene ran in lanes, and if not, why (empty: it did).
+  const std::string& lanesUnused() const { return lanesUnused_; }
+  // The most camera samples handed to the lanes at once: a row of up to this many pixels.
+  static constexpr int kLanesRow = 4096;
   const char* name() const override { return "path"; }
   int sobolSlots() const override { return sobol_ ? kSobolSlots : 0; }
   // --sampler sobol's draws per path: the jitter, then four per non-specular vertex (light pick,
@@ -27,6 +41,9 @@ class PathIntegrator final : public PixelIntegrator {
   Spectrum Li(const Ray& ray, const SurfaceHit* firstHit, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const;
   int maxDepth_;
   bool sobol_;
+  bool lanesWanted_;
+  std::unique_ptr<PathLanes> lanes_;  // built by preprocess where the scene allows
+  std::string lanesUnused_;
 };
 
 }  // namespace pl
