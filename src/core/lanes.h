@@ -105,6 +105,39 @@ PL_HOT_INLINE void sinCos2Pi(Floats u, Floats* sinOut, Floats* cosOut) {
   *cosOut = ((q + 1) & 2) != 0 ? -c1 : c1;
 }
 
+// A 16 × 16 matrix's transpose, in place: rows[i][j] becomes rows[j][i]. Four stages, each
+// swapping the off-diagonal blocks of size b (8, 4, 2, 1) between row pairs i, i + b: the
+// transpose exchanges each bit of the row index with the same bit of the column index.
+PL_HOT_INLINE void transpose(Floats rows[kLanes]) {
+  for (int b = kLanes / 2; b >= 1; b /= 2) {
+    Ints lo, hi;  // __builtin_shuffle's indices: 0–15 the first row, 16–31 the second
+    for (int j = 0; j < kLanes; ++j) {
+      const bool left = (j / b) % 2 == 0;
+      lo[j] = left ? j : kLanes + j - b;
+      hi[j] = left ? j + b : kLanes + j;
+    }
+    for (int i = 0; i < kLanes; ++i) {
+      if (i & b) continue;
+      const Floats a = rows[i], c = rows[i + b];
+      rows[i] = __builtin_shuffle(a, c, lo);
+      rows[i + b] = __builtin_shuffle(a, c, hi);
+    }
+  }
+}
+
+// Sixteen 64-byte records (one per lane, 16 floats each) as 16 vectors, one per field: field j
+// of lane k is fields[j][k]. Sixteen whole-line loads and a transpose, instead of 256 scalar
+// loads and stores (whose vector reloads the store buffer cannot forward).
+PL_HOT_INLINE void gatherRecords(const void* const records[kLanes], Floats fields[kLanes]) {
+  for (int k = 0; k < kLanes; ++k) std::memcpy(&fields[k], records[k], sizeof(Floats));
+  transpose(fields);
+}
+PL_HOT_INLINE Ints bitsOf(Floats x) {
+  Ints i;
+  std::memcpy(&i, &x, sizeof i);
+  return i;
+}
+
 // Duff et al.'s orthonormal basis (s, t, n) around unit normals n, 16 at once (core/frame.h
 // Frame, the same arithmetic).
 struct Frames {

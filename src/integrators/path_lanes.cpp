@@ -20,6 +20,7 @@
 // stay full. Measured: docs/performance.md.
 #include "integrators/path_lanes.h"
 
+#include <cstddef>
 #include <cstring>
 #include <unordered_map>
 
@@ -31,10 +32,17 @@
 
 namespace pl {
 
+// The lanes read a triangle's record as one 16-word vector (lanes::gatherRecords): words 0–11
+// the corners and ng, 12–14 the indices.
+static_assert(sizeof(PathLanes::Triangle) == 64 && offsetof(PathLanes::Triangle, ng) == 36 &&
+              offsetof(PathLanes::Triangle, normals) == 48 && offsetof(PathLanes::Triangle, light) == 56);
+
 std::string PathLanes::unsupported(const Scene& scene) {
   if (scene.environment()) return "an environment light";
   if (scene.hasAbsorbingVolumes()) return "an absorbing volume";
   if (scene.lights().empty() || scene.lightDistribution().total() <= 0) return "no light";
+  if (scene.geometryFirstTriangles().empty()) return "instances or the compact BVH";
+  if (scene.hasVertexColors()) return "vertex colours";
   for (const auto& light : scene.lights()) {
     if (std::string(light->name()) != "area") return std::string("a ") + light->name() + " light";
     if (static_cast<const AreaLight&>(*light).textured()) return "a textured area light";
@@ -57,11 +65,6 @@ std::string PathLanes::unsupported(const Scene& scene) {
       return name + " is a " + m.bsdf->name() + " BSDF";
     }
   }
-  // Vertex colours tint every BSDF's colour: checked at each triangle's corners.
-  const Vec2 at[3] = {{0, 0}, {1, 0}, {0, 1}};
-  for (uint32_t t = 0; t < scene.triangleCount(); ++t)
-    for (const Vec2& b : at)
-      if (scene.surfaceAt(t, b.x, b.y).color != Spectrum(1.0f)) return "triangle " + std::to_string(t) + " has a vertex colour";
   return {};
 }
 
@@ -99,36 +102,14 @@ PathLanes::PathLanes(const Scene& scene) : scene_(scene) {
     tri.normals = -1;
     if (scene.triangleNormals(t, &n)) {
       tri.normals = int32_t(normals_.size());
-      normals_.insert(normals_.end(), n.begin(), n.end());
+      normals_.push_back({n[0], n[1], n[2]});
     }
     tri.material = int32_t(scene.triangleMaterial(t));
     const AreaLight* light = scene.triangleLight(t);
     tri.light = light ? lightIndex.at(light) : -1;
   }
-  // An Embree scene of the world-space triangles in one geometry, so that primID is the index.
-  device_ = rtcNewDevice(nullptr);
-  rtc_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(rtc_, RTC_BUILD_QUALITY_HIGH);  // as Scene builds its own
-  RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, 3 * size_t(count)));
-  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, count));
-  for (uint32_t t = 0; t < count; ++t) {
-    const Vec3* p[3] = {&triangles_[t].p0, &triangles_[t].p1, &triangles_[t].p2};
-    for (int k = 0; k < 3; ++k) {
-      std::memcpy(vertices + 9 * size_t(t) + 3 * k, p[k], sizeof(Vec3));
-      indices[3 * size_t(t) + k] = 3 * t + uint32_t(k);
-    }
-  }
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(rtc_, geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(rtc_);
-  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw Error("path lanes: Embree could not build the scene");
-}
-
-PathLanes::~PathLanes() {
-  rtcReleaseScene(rtc_);
-  rtcReleaseDevice(device_);
+  // The scene's own Embree scene answers the lanes' rays: the same hits as Scene::intersect.
+  firstTriangle_ = scene.geometryFirstTriangles();
 }
 
 namespace {
@@ -161,12 +142,27 @@ PL_HOT_INLINE Vec3s select(Ints m, const Vec3s& a, const Vec3s& b) {
 PL_HOT_INLINE Vec3s load3(const float* x, const float* y, const float* z) { return {load(x), load(y), load(z)}; }
 PL_HOT_INLINE void store3(float* x, float* y, float* z, const Vec3s& v) { store(x, v.x), store(y, v.y), store(z, v.z); }
 
-// Gathers one Vec3 field of a record per lane.
-struct Gather3 {
-  alignas(64) float x[kLanes], y[kLanes], z[kLanes];
-  PL_HOT_INLINE void set(int k, const Vec3& v) { x[k] = v.x, y[k] = v.y, z[k] = v.z; }
-  PL_HOT_INLINE Vec3s get() const { return load3(x, y, z); }
-};
+// What the flat lanes among smooth ones read as vertex normals (their ng stays).
+const PathLanes::Normals kNoNormals{};
+
+// A field of one of a few records (materials, lights) for each lane's index: by selects over the
+// records when they are few (nothing goes through memory), lane by lane otherwise.
+template <class V, class Record, class Field>
+PL_HOT_INLINE V pick(const std::vector<Record>& table, Ints index, Field field) {
+  V out{};
+  if (table.size() <= 8) {
+    for (size_t r = 0; r < table.size(); ++r) out = index == int32_t(r) ? V{} + field(table[r]) : out;
+  } else {
+    for (int k = 0; k < kLanes; ++k) out[k] = field(table[size_t(index[k])]);
+  }
+  return out;
+}
+template <class Record>
+PL_HOT_INLINE Vec3s pick3(const std::vector<Record>& table, Ints index, Vec3 Record::*field) {
+  return {pick<Floats>(table, index, [&](const Record& r) { return (r.*field).x; }),
+          pick<Floats>(table, index, [&](const Record& r) { return (r.*field).y; }),
+          pick<Floats>(table, index, [&](const Record& r) { return (r.*field).z; })};
+}
 
 PL_HOT_INLINE Floats powerHeuristic(Floats pdfA, Floats pdfB) {
   const Floats a = pdfA * pdfA, b = pdfB * pdfB;
@@ -197,7 +193,8 @@ struct Counts {
 
 struct Context {
   const std::vector<PathLanes::Triangle>& triangles;
-  const std::vector<Vec3>& normals;
+  const std::vector<uint32_t>& firstTriangle;  // by Embree geometry
+  const std::vector<PathLanes::Normals>& normals;
   const std::vector<PathLanes::Surface>& surfaces;
   const std::vector<PathLanes::Emitter>& emitters;
   const AliasTable& lightPick;
@@ -225,7 +222,8 @@ PL_HOT_INLINE void intersect(const Paths& P, const Context& c, RTCIntersectConte
 // Asks for the hit triangles' records ahead of their use (they are the bounce's cache misses).
 PL_HOT_INLINE void prefetch(const RTCRayHit16& rh, const int32_t* valid, const Context& c) {
   for (int k = 0; k < kLanes; ++k)
-    if (valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) __builtin_prefetch(&c.triangles[rh.hit.primID[k]]);
+    if (valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
+      __builtin_prefetch(&c.triangles[c.firstTriangle[rh.hit.geomID[k]] + rh.hit.primID[k]]);
 }
 
 // The rest of a bounce for P's live lanes, whose rays' hits are rh (`valid`: the lanes traced).
@@ -233,40 +231,36 @@ PL_HOT_INLINE void prefetch(const RTCRayHit16& rh, const int32_t* valid, const C
 PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, const Context& c, RTCIntersectContext* rtcContext,
                          PixelIntegrator::CameraSample* samples, Counts* counts) {
   const Vec3s d = load3(P.dx, P.dy, P.dz);
-  // The hits' triangles, materials and emitters, gathered lane by lane (a miss reads record 0).
-  Gather3 p0, p1, p2, n0, n1, n2, ng, color, lightN, lightLe;
-  alignas(64) float eta[kLanes], lightArea[kLanes], lightPmf[kLanes];
-  alignas(64) int32_t hit[kLanes], smooth[kLanes], kind[kLanes], emits[kLanes], twoSided[kLanes];
+  // The hits' triangles (a miss reads record 0): each record is one cache line, read whole.
+  alignas(64) int32_t hit[kLanes];
+  const void* records[kLanes];
   for (int k = 0; k < kLanes; ++k) {
     hit[k] = valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID ? -1 : 0;
-    const PathLanes::Triangle& tri = c.triangles[hit[k] ? rh.hit.primID[k] : 0];
-    p0.set(k, tri.p0), p1.set(k, tri.p1), p2.set(k, tri.p2), ng.set(k, tri.ng);
-    smooth[k] = tri.normals >= 0 ? -1 : 0;
-    const PathLanes::Surface& m = c.surfaces[size_t(tri.material)];
-    kind[k] = m.kind, color.set(k, m.color), eta[k] = m.eta;
-    const PathLanes::Emitter& light = c.emitters[tri.light >= 0 ? size_t(tri.light) : 0];
-    emits[k] = tri.light >= 0 ? -1 : 0;
-    lightN.set(k, light.n), lightLe.set(k, light.Le), lightArea[k] = light.area, lightPmf[k] = light.pmf;
-    twoSided[k] = light.twoSided;
+    records[k] = &c.triangles[hit[k] ? c.firstTriangle[rh.hit.geomID[k]] + rh.hit.primID[k] : 0];
   }
+  Floats field[kLanes];  // PathLanes::Triangle's words
+  gatherRecords(records, field);
+  const Vec3s p0{field[0], field[1], field[2]}, p1{field[3], field[4], field[5]}, p2{field[6], field[7], field[8]};
+  const Vec3s Ng{field[9], field[10], field[11]};
+  const Ints normalsAt = bitsOf(field[12]), material = bitsOf(field[13]), lightIndex = bitsOf(field[14]);
+  // Their materials.
+  using Surface = PathLanes::Surface;
+  const Ints kind = pick<Ints>(c.surfaces, material, [](const Surface& m) { return m.kind; });
+  const Vec3s albedo = pick3(c.surfaces, material, &Surface::color);  // ρ, or the mirror's F0
+  const Floats eta = pick<Floats>(c.surfaces, material, [](const Surface& m) { return m.eta; });
   // The hit: p = b0 v0 + b1 v1 + b2 v2 with Embree's (u, v) = (b1, b2); the shading normal is
   // the vertex normals' interpolation, normalised (the geometric one without them).
   const Floats b1 = load(rh.hit.u), b2 = load(rh.hit.v), b0 = 1.0f - b1 - b2;
-  const Vec3s p = b0 * p0.get() + b1 * p1.get() + b2 * p2.get();
-  const Vec3s Ng = ng.get();
-  const Ints isHit = load(hit), isSmooth = isHit & load(smooth);
+  const Vec3s p = b0 * p0 + b1 * p1 + b2 * p2;
+  const Ints isHit = load(hit), isSmooth = isHit & (normalsAt >= 0);
   Vec3s ns = Ng;
   if (any(isSmooth)) {
-    for (int k = 0; k < kLanes; ++k) {
-      const PathLanes::Triangle& tri = c.triangles[hit[k] ? rh.hit.primID[k] : 0];
-      if (tri.normals < 0) {  // a flat triangle among smooth ones: its lane keeps ng
-        n0.set(k, tri.ng), n1.set(k, tri.ng), n2.set(k, tri.ng);
-        continue;
-      }
-      const Vec3* n = &c.normals[size_t(tri.normals)];
-      n0.set(k, n[0]), n1.set(k, n[1]), n2.set(k, n[2]);
-    }
-    const Vec3s n = b0 * n0.get() + b1 * n1.get() + b2 * n2.get();
+    const void* normalRecords[kLanes];
+    for (int k = 0; k < kLanes; ++k) normalRecords[k] = isSmooth[k] ? &c.normals[size_t(normalsAt[k])] : &kNoNormals;
+    Floats nf[kLanes];
+    gatherRecords(normalRecords, nf);
+    const Vec3s n0{nf[0], nf[1], nf[2]}, n1{nf[3], nf[4], nf[5]}, n2{nf[6], nf[7], nf[8]};
+    const Vec3s n = b0 * n0 + b1 * n1 + b2 * n2;
     const Floats length = sqrt(dot(n, n));
     ns = select(isSmooth & (length > 0), (1.0f / length) * n, Ng);
   }
@@ -276,21 +270,26 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
 
   // Emission found by BSDF sampling (AreaLight::L: the front face, or both), weighted against
   // next-event estimation's density from the previous vertex, pmf · r² / (A |cos θ_light|).
-  const Floats cosEmit = -dot(lightN.get(), d);
-  const Ints lit = isHit & load(emits) & ((cosEmit > 0) | ((load(twoSided) != 0) & (cosEmit < 0)));
-  if (any(lit)) {
+  const Ints emits = isHit & (lightIndex >= 0);
+  if (any(emits)) {
+    using Emitter = PathLanes::Emitter;
+    const Ints light = emits != 0 ? lightIndex : Ints{};
+    const Vec3s lightN = pick3(c.emitters, light, &Emitter::n), Le = pick3(c.emitters, light, &Emitter::Le);
+    const Floats lightArea = pick<Floats>(c.emitters, light, [](const Emitter& e) { return e.area; });
+    const Floats lightPmf = pick<Floats>(c.emitters, light, [](const Emitter& e) { return e.pmf; });
+    const Ints twoSided = pick<Ints>(c.emitters, light, [](const Emitter& e) { return e.twoSided; });
+    const Floats cosEmit = -dot(lightN, d);
+    const Ints lit = emits & ((cosEmit > 0) | ((twoSided != 0) & (cosEmit < 0)));
     const Vec3s toHit = p - load3(P.px, P.py, P.pz);
     const Floats r2 = dot(toHit, toHit);
-    const Floats cosLight = abs(dot(lightN.get(), toHit)) / sqrt(r2);
-    const Floats pdfLi = (cosLight > 0) & (load(lightArea) > 0) ? r2 / (load(lightArea) * cosLight) : Floats{};
-    const Floats w = load(P.specular) != 0 ? splat(1.0f) : powerHeuristic(load(P.bsdfPdf), load(lightPmf) * pdfLi);
-    const Vec3s Le = lightLe.get();
+    const Floats cosLight = abs(dot(lightN, toHit)) / sqrt(r2);
+    const Floats pdfLi = (cosLight > 0) & (lightArea > 0) ? r2 / (lightArea * cosLight) : Floats{};
+    const Floats w = load(P.specular) != 0 ? splat(1.0f) : powerHeuristic(load(P.bsdfPdf), lightPmf * pdfLi);
     const Floats wLit = lit != 0 ? w : Floats{};
     L = L + wLit * Vec3s{beta.x * Le.x, beta.y * Le.y, beta.z * Le.z};
   }
   Ints go = isHit & (load(P.depth) < c.maxDepth);
-  const Ints lambertian = load(kind) == PathLanes::kLambertian;
-  const Vec3s albedo = color.get();
+  const Ints lambertian = kind == PathLanes::kLambertian;
 
   // wo in the shading frame.
   Vec3s wo;
@@ -303,25 +302,31 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
     const Ints nee = go & lambertian;
     const Floats uLight = uniforms(P.state, P.increment, nee);
     const Floats uy = uniforms(P.state, P.increment, nee), ux = uniforms(P.state, P.increment, nee);  // Sampler::get2D
-    Gather3 q0, q1, q2, qn, qLe;
-    alignas(64) float qArea[kLanes], qPmf[kLanes];
-    alignas(64) int32_t qTwoSided[kLanes];
+    alignas(64) int32_t picked[kLanes];
+    alignas(64) float pickPmf[kLanes];
     for (int k = 0; k < kLanes; ++k) {
       float pmf = 0;
-      const PathLanes::Emitter& light = c.emitters[nee[k] ? c.lightPick.sample(uLight[k], &pmf) : 0];
-      q0.set(k, light.p0), q1.set(k, light.p1), q2.set(k, light.p2), qn.set(k, light.n), qLe.set(k, light.Le);
-      qArea[k] = light.area, qPmf[k] = pmf, qTwoSided[k] = light.twoSided;
+      picked[k] = nee[k] ? int32_t(c.lightPick.sample(uLight[k], &pmf)) : 0;
+      pickPmf[k] = pmf;
     }
+    using Emitter = PathLanes::Emitter;
+    const Ints light = load(picked);
+    const Vec3s q0 = pick3(c.emitters, light, &Emitter::p0), q1 = pick3(c.emitters, light, &Emitter::p1);
+    const Vec3s q2 = pick3(c.emitters, light, &Emitter::p2), qn = pick3(c.emitters, light, &Emitter::n);
+    const Vec3s qLe = pick3(c.emitters, light, &Emitter::Le);
+    const Floats qArea = pick<Floats>(c.emitters, light, [](const Emitter& e) { return e.area; });
+    const Ints qTwoSided = pick<Ints>(c.emitters, light, [](const Emitter& e) { return e.twoSided; });
+    const Floats qPmf = load(pickPmf);
     // AreaLight::sampleLi: Heitz's triangle map, y = bx p0 + by p1 + (1 − bx − by) p2.
     const Ints lower = ux < uy;
     const Floats bx = lower ? ux * 0.5f : ux - uy * 0.5f, by = lower ? uy - ux * 0.5f : uy * 0.5f;
-    const Vec3s y = bx * q0.get() + by * q1.get() + (1.0f - bx - by) * q2.get();
+    const Vec3s y = bx * q0 + by * q1 + (1.0f - bx - by) * q2;
     const Vec3s toLight = y - p;
     const Floats r2 = dot(toLight, toLight), distance = sqrt(r2);
     const Vec3s wi = (1.0f / distance) * toLight;
-    const Floats cosLight = -dot(qn.get(), wi);
-    const Ints emitting = (cosLight > 0) | ((load(qTwoSided) != 0) & (cosLight < 0));
-    const Floats pdfLi = r2 / (load(qArea) * abs(cosLight));
+    const Floats cosLight = -dot(qn, wi);
+    const Ints emitting = (cosLight > 0) | ((qTwoSided != 0) & (cosLight < 0));
+    const Floats pdfLi = r2 / (qArea * abs(cosLight));
     Vec3s wiLocal;
     shading.toLocal(wi.x, wi.y, wi.z, &wiLocal.x, &wiLocal.y, &wiLocal.z);
     // Lambertian::evaluate: both directions strictly on one side of the shading normal.
@@ -351,10 +356,10 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
     if (shadowRays > 0) rtcOccluded16(shadowValid, c.rtc, rtcContext, &shadow);
     counts->shadowRays += uint64_t(shadowRays);
     const Ints unoccluded = nearby | (load(shadow.tfar) >= 0);  // Embree sets tfar to −∞ on a hit
-    const Floats lightPdf = load(qPmf) * pdfLi;
+    const Floats lightPdf = qPmf * pdfLi;
     const Floats w = powerHeuristic(lightPdf, abs(wiLocal.z) * kInvPi);
     const Floats s = (tried & unoccluded) != 0 ? abs(wiLocal.z) * w / lightPdf * kInvPi : Floats{};
-    const Vec3s Li = qLe.get();
+    const Vec3s Li = qLe;
     L = L + s * Vec3s{beta.x * albedo.x * Li.x, beta.y * albedo.y * Li.y, beta.z * albedo.z * Li.z};
   }
   store3(P.Lr, P.Lg, P.Lb, L);
@@ -362,7 +367,7 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
   // BSDF sampling: u = get2D (y drawn first), then the lobe's number uc = get1D.
   const Floats uy = uniforms(P.state, P.increment, go), ux = uniforms(P.state, P.increment, go);
   const Floats uc = uniforms(P.state, P.increment, go);
-  const Ints mirror = load(kind) == PathLanes::kMirror, glass = load(kind) == PathLanes::kGlass;  // else Lambertian
+  const Ints mirror = kind == PathLanes::kMirror, glass = kind == PathLanes::kGlass;  // else Lambertian
   go &= wo.z != 0;
   // Lambertian: the cosine lobe on wo's side, weight ρ.
   Floats sinPhi, cosPhi;
@@ -385,7 +390,7 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
   }
   if (any(go & glass)) {
     // Reflect with probability F (weight 1), else refract by Snell's law (weight 1/η²).
-    const Floats etaGlass = load(eta);
+    const Floats etaGlass = eta;
     const Floats F = fresnelDielectric(wo.z, etaGlass);
     const Ints reflectGlass = uc < F;
     const Ints entering = wo.z > 0;
@@ -436,33 +441,43 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
   store(P.alive, go);
 }
 
-// The live paths among the first `slots` lanes of `from` move to the front of `to`, in order
-// (stream compaction: full packets again). Returns how many there are.
-size_t compact(const std::vector<Paths>& from, size_t slots, std::vector<Paths>& to) {
-  size_t m = 0;
-  for (size_t i = 0; i < slots; ++i) {
-    const Paths& P = from[i / kLanes];
-    const int k = int(i % kLanes);
-    if (!P.alive[k]) continue;
-    Paths& Q = to[m / kLanes];
-    const int j = int(m % kLanes);
-    Q.ox[j] = P.ox[k], Q.oy[j] = P.oy[k], Q.oz[j] = P.oz[k], Q.tmin[j] = P.tmin[k], Q.tmax[j] = P.tmax[k];
-    Q.dx[j] = P.dx[k], Q.dy[j] = P.dy[k], Q.dz[j] = P.dz[k];
-    Q.Lr[j] = P.Lr[k], Q.Lg[j] = P.Lg[k], Q.Lb[j] = P.Lb[k], Q.br[j] = P.br[k], Q.bg[j] = P.bg[k], Q.bb[j] = P.bb[k];
-    Q.bsdfPdf[j] = P.bsdfPdf[k], Q.etaScale[j] = P.etaScale[k], Q.px[j] = P.px[k], Q.py[j] = P.py[k], Q.pz[j] = P.pz[k];
-    Q.state[j] = P.state[k], Q.increment[j] = P.increment[k];
-    Q.depth[j] = P.depth[k], Q.sample[j] = P.sample[k], Q.specular[j] = P.specular[k], Q.alive[j] = -1;
-    ++m;
+// Path j's state into lane i (of other packets or the same).
+PL_HOT_INLINE void move(std::vector<Paths>& paths, size_t j, size_t i) {
+  const Paths& P = paths[j / kLanes];
+  Paths& Q = paths[i / kLanes];
+  const int k = int(j % kLanes), l = int(i % kLanes);
+  Q.ox[l] = P.ox[k], Q.oy[l] = P.oy[k], Q.oz[l] = P.oz[k], Q.tmin[l] = P.tmin[k], Q.tmax[l] = P.tmax[k];
+  Q.dx[l] = P.dx[k], Q.dy[l] = P.dy[k], Q.dz[l] = P.dz[k];
+  Q.Lr[l] = P.Lr[k], Q.Lg[l] = P.Lg[k], Q.Lb[l] = P.Lb[k], Q.br[l] = P.br[k], Q.bg[l] = P.bg[k], Q.bb[l] = P.bb[k];
+  Q.bsdfPdf[l] = P.bsdfPdf[k], Q.etaScale[l] = P.etaScale[k], Q.px[l] = P.px[k], Q.py[l] = P.py[k], Q.pz[l] = P.pz[k];
+  Q.state[l] = P.state[k], Q.increment[l] = P.increment[k];
+  Q.depth[l] = P.depth[k], Q.sample[l] = P.sample[k], Q.specular[l] = P.specular[k], Q.alive[l] = P.alive[k];
+}
+
+// Stream compaction: the live paths among the first `slots` lanes fill the lanes of the ended
+// ones, the last live path moving into the first hole, so that they occupy the first lanes
+// (full packets again) at the cost of one copy per hole, not per path. Returns how many live.
+size_t compact(std::vector<Paths>& paths, size_t slots) {
+  auto alive = [&](size_t i) { return paths[i / kLanes].alive[i % kLanes] != 0; };
+  size_t hole = 0, last = slots;
+  for (;;) {
+    while (hole < last && alive(hole)) ++hole;
+    while (last > hole && !alive(last - 1)) --last;
+    if (hole + 1 >= last) break;
+    move(paths, last - 1, hole);
+    paths[(last - 1) / kLanes].alive[(last - 1) % kLanes] = 0;
+    --last;
   }
-  for (size_t j = m; j % kLanes != 0; ++j) to[j / kLanes].alive[j % kLanes] = 0;  // the last packet's rest
-  return m;
+  const size_t live = hole < last ? last : hole;
+  for (size_t j = live; j % kLanes != 0; ++j) paths[j / kLanes].alive[j % kLanes] = 0;  // the last packet's rest
+  return live;
 }
 
 PL_LANE_CLONES void traceLanes(PixelIntegrator::CameraSample* samples, int n, const Context& c) {
   const size_t packets = (size_t(n) + kLanes - 1) / kLanes;
-  // Per thread, reused across rows: a row's paths and the buffer compaction moves them to.
-  thread_local std::vector<Paths> paths, spare;
-  if (paths.size() < packets) paths.resize(packets), spare.resize(packets);
+  // A row's paths, per thread, reused from row to row.
+  thread_local std::vector<Paths> paths;
+  if (paths.size() < packets) paths.resize(packets);
   for (int i = 0; i < n; ++i) {
     Paths& P = paths[size_t(i) / kLanes];
     const int k = i % kLanes;
@@ -508,8 +523,7 @@ PL_LANE_CLONES void traceLanes(PixelIntegrator::CameraSample* samples, int n, co
     }
     if (live == 0) break;
     if (live < slots) {
-      slots = compact(paths, slots, spare);
-      paths.swap(spare);
+      slots = compact(paths, slots);
     }
   }
   Scene::countRays(counts.rays, counts.shadowRays);
@@ -518,7 +532,8 @@ PL_LANE_CLONES void traceLanes(PixelIntegrator::CameraSample* samples, int n, co
 }  // namespace
 
 void PathLanes::trace(PixelIntegrator::CameraSample* samples, int n, int maxDepth) const {
-  const Context c{triangles_, normals_, surfaces_, emitters_, scene_.lightDistribution(), rtc_, scene_.epsilon(), maxDepth};
+  const Context c{triangles_, firstTriangle_, normals_, surfaces_, emitters_, scene_.lightDistribution(), scene_.embreeScene(),
+                  scene_.epsilon(), maxDepth};
   traceLanes(samples, n, c);
 }
 

@@ -9,8 +9,6 @@
 // dispersion; one-sided or two-sided area lights of constant radiance; RGB, independent samples.
 // unsupported() says what else a scene has; the scalar path tracer renders those.
 #pragma once
-#include <embree3/rtcore.h>
-
 #include <string>
 #include <vector>
 
@@ -24,7 +22,6 @@ class PathLanes {
   static std::string unsupported(const Scene& scene);
   // Throws pl::Error where unsupported() says why.
   explicit PathLanes(const Scene& scene);
-  ~PathLanes();
   PathLanes(const PathLanes&) = delete;
   PathLanes& operator=(const PathLanes&) = delete;
 
@@ -32,14 +29,19 @@ class PathLanes {
   // Each sample's sampler must draw independent numbers (no Sobol' slots).
   void trace(PixelIntegrator::CameraSample* samples, int n, int maxDepth) const;
 
-  // What the lanes read at a hit, one cache line per triangle (by Embree primID of their own
-  // scene): the hit's first memory access, so kept small.
+  // What the lanes read at a hit, one cache line per triangle: the hit's first memory access,
+  // so kept small.
   struct alignas(64) Triangle {
     Vec3 p0, p1, p2;  // Scene::trianglePositions
     Vec3 ng;          // geometric normal (SurfaceHit::ng)
-    int32_t normals;  // its vertex normals' index in normals_ (3 from there), or −1: flat
+    int32_t normals;  // its vertex normals' index in normals_, or −1: flat
     int32_t material; // index into surfaces_ (= Scene::materials())
     int32_t light;    // index into Scene::lights() (an area light), or −1
+    int32_t unused;   // (16 words: the lanes read a record as one vector)
+  };
+  // A smooth triangle's vertex normals as stored (Scene::triangleNormals), one cache line each.
+  struct alignas(64) Normals {
+    Vec3 n0, n1, n2;
   };
   static constexpr int32_t kLambertian = 0, kMirror = 1, kGlass = 2;  // Surface::kind
   struct Surface {
@@ -55,12 +57,11 @@ class PathLanes {
 
  private:
   const Scene& scene_;
-  std::vector<Triangle> triangles_;
-  std::vector<Vec3> normals_;  // vertex normals as stored (Scene::triangleNormals), 3 per smooth triangle
+  std::vector<Triangle> triangles_;  // by triangle number (Scene::trianglePositions)
+  std::vector<uint32_t> firstTriangle_;  // by Embree geometry (Scene::geometryFirstTriangles)
+  std::vector<Normals> normals_;
   std::vector<Surface> surfaces_;
   std::vector<Emitter> emitters_;  // by index in Scene::lights()
-  RTCDevice device_ = nullptr;
-  RTCScene rtc_ = nullptr;
 };
 
 }  // namespace pl

@@ -797,6 +797,20 @@ std::array<Vec3, 3> Scene::trianglePositions(uint32_t primitive) const {
   return v;
 }
 
+std::vector<uint32_t> Scene::geometryFirstTriangles() const {
+  if (instances_.size() > 1 || prototypes_[0].paired) return {};
+  std::vector<uint32_t> first;
+  for (const Part& part : prototypes_[0].parts) first.push_back(part.firstTriangle);  // geomID = the part's index
+  return first;
+}
+
+bool Scene::hasVertexColors() const {
+  for (const Prototype& proto : prototypes_)
+    for (const Part& part : proto.parts)
+      if (part.firstColor >= 0) return true;
+  return false;
+}
+
 bool Scene::triangleNormals(uint32_t primitive, std::array<Vec3, 3>* normals) const {
   uint32_t instance, part, primID;
   locate(primitive, &instance, &part, &primID);

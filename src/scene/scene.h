@@ -236,6 +236,12 @@ class Scene {
   const Bounds& bounds() const { return bounds_; }
   float epsilon() const { return epsilon_; }
   RTCScene embreeScene() const { return rtcScene_; }
+  // For code that queries embreeScene() itself: each Embree geometry's first triangle number, so
+  // that a hit is triangle first[geomID] + primID, Embree's (u, v) the barycentrics (b1, b2) of
+  // trianglePositions' corners. Empty where that does not hold (instances, the compact layout).
+  std::vector<uint32_t> geometryFirstTriangles() const;
+  // Whether any mesh has vertex colours (COLOR_0).
+  bool hasVertexColors() const;
   // Rays (closest-hit and shadow) traced so far by this process, for benchmarks. Counted per
   // thread without atomics; a thread adds its count to the total when it exits.
   static uint64_t raysTraced();
