@@ -104,8 +104,7 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
   const float eps = scene.epsilon();
   LeastPathResult result;
   result.image.assign(size_t(width) * height, Vec3(0.0f));
-  std::vector<uint64_t> rowRays(height, 0), rowShadowRays(height, 0);
-  std::vector<double> rowSum(height, 0.0), rowSumSquares(height, 0.0);
+  LeastRowCounts rows(height);
 
   const auto t0 = std::chrono::steady_clock::now();
   parallelFor(size_t(height), threads, [&](size_t y, int) {
@@ -204,18 +203,11 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
       }
       result.image[pixel] = Vec3(pixelSum / double(spp));
     }
-    rowRays[y] = rays, rowShadowRays[y] = shadowRays;
-    rowSum[y] = sum, rowSumSquares[y] = sumSquares;
+    rows.rays[y] = rays, rows.shadowRays[y] = shadowRays;
+    rows.sum[y] = sum, rows.sumSquares[y] = sumSquares;
   });
   result.seconds = secondsSince(t0);
-
-  double sum = 0, sumSquares = 0;
-  for (int y = 0; y < height; ++y) {
-    result.closestRays += rowRays[y], result.shadowRays += rowShadowRays[y];
-    sum += rowSum[y], sumSquares += rowSumSquares[y];
-  }
-  const double n = double(width) * height * spp;
-  result.sampleVariance = n > 1 ? (sumSquares - sum * sum / n) / (n - 1) : 0.0;
+  rows.total(double(width) * height * spp, &result);
   return result;
 }
 

@@ -236,8 +236,7 @@ LeastPathResult leastPathLoopSimd(const Scene& scene, int width, int height, int
   const LeastPathScene least(scene);
   LeastPathResult result;
   result.image.assign(size_t(width) * height, Vec3(0.0f));
-  std::vector<uint64_t> rowRays(height, 0), rowShadowRays(height, 0);
-  std::vector<double> rowSum(height, 0.0), rowSumSquares(height, 0.0);
+  LeastRowCounts rows(height);
   const auto t0 = std::chrono::steady_clock::now();
   parallelFor(size_t(height), threads, [&](size_t y, int) {
     const size_t packets = (size_t(width) + kLanes - 1) / kLanes;
@@ -255,17 +254,11 @@ LeastPathResult leastPathLoopSimd(const Scene& scene, int width, int height, int
       }
     }
     for (int x = 0; x < width; ++x) result.image[y * size_t(width) + size_t(x)] = Vec3(pixelSum[size_t(x)] / double(spp));
-    rowRays[y] = counts.rays, rowShadowRays[y] = counts.shadowRays;
-    rowSum[y] = sum, rowSumSquares[y] = sumSquares;
+    rows.rays[y] = counts.rays, rows.shadowRays[y] = counts.shadowRays;
+    rows.sum[y] = sum, rows.sumSquares[y] = sumSquares;
   });
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  double sum = 0, sumSquares = 0;
-  for (int y = 0; y < height; ++y) {
-    result.closestRays += rowRays[y], result.shadowRays += rowShadowRays[y];
-    sum += rowSum[y], sumSquares += rowSumSquares[y];
-  }
-  const double n = double(width) * height * spp;
-  result.sampleVariance = n > 1 ? (sumSquares - sum * sum / n) / (n - 1) : 0.0;
+  rows.total(double(width) * height * spp, &result);
   return result;
 }
 

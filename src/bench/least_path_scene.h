@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "bench/least_path_loop.h"
 #include "scene/scene.h"
 
 namespace pl {
@@ -31,6 +32,23 @@ struct LeastPathScene {
   std::vector<uint32_t> lightTriangle;   // light index → its triangle
   RTCDevice device = nullptr;
   RTCScene rtc = nullptr;
+};
+
+// What the loops count per row (each row its own entry, so threads need no atomics), and the
+// result's totals from them.
+struct LeastRowCounts {
+  explicit LeastRowCounts(int height) : rays(height, 0), shadowRays(height, 0), sum(height, 0.0), sumSquares(height, 0.0) {}
+  std::vector<uint64_t> rays, shadowRays;
+  std::vector<double> sum, sumSquares;  // of each sample's mean channel
+  // Rays and the variance of one sample's mean channel over `samples` samples, into result.
+  void total(double samples, LeastPathResult* result) const {
+    double all = 0, squares = 0;
+    for (size_t y = 0; y < rays.size(); ++y) {
+      result->closestRays += rays[y], result->shadowRays += shadowRays[y];
+      all += sum[y], squares += sumSquares[y];
+    }
+    result->sampleVariance = samples > 1 ? (squares - all * all / samples) / (samples - 1) : 0.0;
+  }
 };
 
 }  // namespace pl

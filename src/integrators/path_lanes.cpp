@@ -1,14 +1,14 @@
 // The path tracer (integrators/path.cpp) in 16 SIMD lanes. Read path.cpp first: this file
 // computes the same estimator, step for step, for 16 paths per instruction.
 //
-// A bounce of 16 paths: their rays go to Embree as one packet (rtcIntersect16); the hits are
-// rebuilt from the triangles' records (position and shading normal interpolated as
-// Scene::surfaceOf does); emission found by BSDF sampling is weighted against next-event
-// estimation; Lambertian lanes pick a light, sample a point on it and send their shadow rays as
-// one packet (rtcOccluded16); every lane samples its BSDF (the Lambertian's cosine lobe, the
-// mirror, the glass's Fresnel choice: all three computed, each lane keeping its own); Russian
-// roulette from the fourth bounce. Then the finished paths are squeezed out (stream compaction),
-// so that the next bounce's packets are full again.
+// A bounce of 16 paths: their rays go to the scene's Embree scene as one packet
+// (rtcIntersect16); the hits are rebuilt from the triangles' records (position and shading
+// normal interpolated as Scene::surfaceOf does); emission found by BSDF sampling is weighted
+// against next-event estimation; Lambertian lanes pick a light, sample a point on it and send
+// their shadow rays as one packet (rtcOccluded16); every lane samples its BSDF (the Lambertian's
+// cosine lobe, and where any lane needs them the mirror and the glass's Fresnel choice, each lane
+// keeping its own); Russian roulette from the fourth bounce. Then the finished paths are
+// squeezed out (stream compaction), so that the next bounce's packets are full again.
 //
 // Each path keeps its sampler's stream (Rng::state, increment) and draws from it in the order
 // PathIntegrator::Li does, including where a draw is skipped. The results differ from Li's only
