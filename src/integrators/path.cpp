@@ -10,15 +10,17 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWav
   return Li(cameraRay, found ? &hit : nullptr, scene, lambda, sampler);
 }
 
-// A row's neighbouring camera rays start together and run nearly parallel: Embree traces them
-// as one coherent packet, which costs less per ray than one at a time. The paths then go on
-// one by one; the packet's hits are the one-ray query's bit for bit, so the image is the same.
+// The lanes, where the scene and the options allow them.
 void PathIntegrator::preprocess(const Scene& scene, uint64_t, int, const Budget&) {
   lanes_.reset();
   lanesUnused_ = lanesWanted_ ? PathLanes::unsupported(scene) : "lanes off, or spectral, or Sobol' samples";
   if (lanesUnused_.empty()) lanes_ = std::make_unique<PathLanes>(scene);
 }
 
+// In lanes: the whole row (packetSize). Otherwise: a row's neighbouring camera rays start
+// together and run nearly parallel: Embree traces them as one coherent packet, which costs less
+// per ray than one at a time. The paths then go on one by one; the packet's hits are the one-ray
+// query's bit for bit, so the image is the same.
 void PathIntegrator::LiPacket(CameraSample* samples, int n, const Scene& scene) const {
   if (lanes_) return lanes_->trace(samples, n, maxDepth_);
   Ray rays[Scene::kPacket];
