@@ -54,7 +54,7 @@ class Rng {
   float uniform() { return float(nextU32() >> 8) * 0x1p-24f; }
 
   // The generator's two words, for code that advances many streams side by side in SIMD lanes
-  // (bench/least_path_loop_simd.cpp): state' = state · 6364136223846793005 + increment.
+  // (core/lanes.h uniforms): state' = state · 6364136223846793005 + increment.
   uint64_t state() const { return state_; }
   uint64_t increment() const { return inc_; }
 

@@ -219,13 +219,6 @@ PL_HOT_INLINE void intersect(const Paths& P, const Context& c, RTCIntersectConte
   counts->rays += uint64_t(rays);
 }
 
-// Asks for the hit triangles' records ahead of their use (they are the bounce's cache misses).
-PL_HOT_INLINE void prefetch(const RTCRayHit16& rh, const int32_t* valid, const Context& c) {
-  for (int k = 0; k < kLanes; ++k)
-    if (valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
-      __builtin_prefetch(&c.triangles[c.firstTriangle[rh.hit.geomID[k]] + rh.hit.primID[k]]);
-}
-
 // The rest of a bounce for P's live lanes, whose rays' hits are rh (`valid`: the lanes traced).
 // The paths that end give their radiance to their camera samples; P.alive keeps the others.
 PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, const Context& c, RTCIntersectContext* rtcContext,
@@ -359,8 +352,7 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
     const Floats lightPdf = qPmf * pdfLi;
     const Floats w = powerHeuristic(lightPdf, abs(wiLocal.z) * kInvPi);
     const Floats s = (tried & unoccluded) != 0 ? abs(wiLocal.z) * w / lightPdf * kInvPi : Floats{};
-    const Vec3s Li = qLe;
-    L = L + s * Vec3s{beta.x * albedo.x * Li.x, beta.y * albedo.y * Li.y, beta.z * albedo.z * Li.z};
+    L = L + s * Vec3s{beta.x * albedo.x * qLe.x, beta.y * albedo.y * qLe.y, beta.z * albedo.z * qLe.z};
   }
   store3(P.Lr, P.Lg, P.Lb, L);
 
@@ -390,11 +382,10 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
   }
   if (any(go & glass)) {
     // Reflect with probability F (weight 1), else refract by Snell's law (weight 1/η²).
-    const Floats etaGlass = eta;
-    const Floats F = fresnelDielectric(wo.z, etaGlass);
+    const Floats F = fresnelDielectric(wo.z, eta);
     const Ints reflectGlass = uc < F;
     const Ints entering = wo.z > 0;
-    const Floats etaRel = entering ? etaGlass : 1.0f / etaGlass;
+    const Floats etaRel = entering ? eta : 1.0f / eta;
     const Floats normalZ = entering ? splat(1.0f) : splat(-1.0f);
     const Floats cosI = normalZ * wo.z;
     const Floats sin2T = max(Floats{}, 1.0f - cosI * cosI) / (etaRel * etaRel);
@@ -499,32 +490,21 @@ PL_LANE_CLONES void traceLanes(PixelIntegrator::CameraSample* samples, int n, co
   rtcInitIntersectContext(&coherent);
   coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   Counts counts;
-  // A bounce: every packet's rays first, then every packet's shading, each fetching the next
-  // packet's triangle records while it works, so that their cache misses are over by then.
-  thread_local std::vector<RTCRayHit16> hits;
-  struct alignas(64) Mask {  // Embree reads a packet's valid lanes from 64-byte-aligned memory
-    int32_t lanes[kLanes];
-  };
-  thread_local std::vector<Mask> valid;
-  if (hits.size() < packets) hits.resize(packets), valid.resize(packets);
   // The paths occupy the first `slots` lanes, the ended ones among them marked dead; after each
   // bounce the live ones are squeezed together, so that every packet but the last is full.
   // (Squeezing only once an eighth or a quarter of the lanes had died measured the same.)
   for (size_t slots = size_t(n), bounces = 0; slots > 0; ++bounces) {
     RTCIntersectContext* context = bounces == 0 ? &coherent : &incoherent;
-    const size_t used = (slots + kLanes - 1) / kLanes;
-    for (size_t g = 0; g < used; ++g) intersect(paths[g], c, context, &hits[g], valid[g].lanes, &counts);
-    prefetch(hits[0], valid[0].lanes, c);
     size_t live = 0;
-    for (size_t g = 0; g < used; ++g) {
-      if (g + 1 < used) prefetch(hits[g + 1], valid[g + 1].lanes, c);
-      shade(paths[g], hits[g], valid[g].lanes, c, context, samples, &counts);
+    for (size_t g = 0; g < (slots + kLanes - 1) / kLanes; ++g) {
+      alignas(64) RTCRayHit16 hits;
+      alignas(64) int32_t valid[kLanes];  // Embree reads a packet's lanes from 64-byte-aligned memory
+      intersect(paths[g], c, context, &hits, valid, &counts);
+      shade(paths[g], hits, valid, c, context, samples, &counts);
       for (int k = 0; k < kLanes; ++k) live += paths[g].alive[k] != 0;
     }
     if (live == 0) break;
-    if (live < slots) {
-      slots = compact(paths, slots);
-    }
+    if (live < slots) slots = compact(paths, slots);
   }
   Scene::countRays(counts.rays, counts.shadowRays);
 }

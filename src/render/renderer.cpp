@@ -79,8 +79,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
     // One row per work item: each pixel is touched by one thread per pass, in sample order,
-    // so the sums are identical whatever the thread count. Pixels go to the integrator kPacket
-    // at a time (neighbours in the row), for integrators that trace their rays together; each
+    // so the sums are identical whatever the thread count. Pixels go to the integrator
+    // packetSize() at a time (neighbours in the row), for integrators that trace their rays together; each
     // keeps its own stream and sampler. The budget is polled per such group (a whole row for an
     // integrator that takes one: PixelIntegrator::packetSize).
     parallelFor(size_t(H), threads, [&](size_t y, int) {
