@@ -56,7 +56,7 @@ class PixelIntegrator : public Integrator {
   // Radiance arriving along a camera ray, at the path's wavelengths (RGB unless spectral). A
   // dispersive refraction on the way ends the secondary wavelengths in `lambda`.
   virtual Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const = 0;
-  // Li for n ≤ packetSize() camera samples at once (neighbouring pixels of one row): each
+  // Li for n ≤ packetSize() camera samples at once (neighbouring pixels in reading order): each
   // sample's L as Li would return it (bit for bit, except where the integrator says how it
   // differs). An integrator that traces its paths' rays together overrides it; the default
   // takes them one by one.
@@ -69,7 +69,8 @@ class PixelIntegrator : public Integrator {
   virtual void LiPacket(CameraSample* samples, int n, const Scene& scene) const {
     for (int k = 0; k < n; ++k) samples[k].L = Li(samples[k].ray, scene, *samples[k].lambda, *samples[k].sampler);
   }
-  // How many neighbouring pixels of a row LiPacket takes at once (the rest of the row at most):
+  // How many neighbouring pixels LiPacket takes at once: the rest of the row at most, or whole
+  // rows where packetSize() holds more than one (renderer.cpp):
   // Scene::kPacket, or more for an integrator that runs many paths side by side.
   virtual int packetSize() const { return Scene::kPacket; }
   // --sampler sobol (core/sampler.h): how many of each camera path's draws, the pixel jitter

@@ -17,7 +17,7 @@ void PathIntegrator::preprocess(const Scene& scene, uint64_t, int, const Budget&
   if (lanesUnused_.empty()) lanes_ = std::make_unique<PathLanes>(scene);
 }
 
-// In lanes: the whole row (packetSize). Otherwise: a row's neighbouring camera rays start
+// In lanes: the whole batch (packetSize). Otherwise: a row's neighbouring camera rays start
 // together and run nearly parallel: Embree traces them as one coherent packet, which costs less
 // per ray than one at a time. The paths then go on one by one; the packet's hits are the one-ray
 // query's bit for bit, so the image is the same.
@@ -96,7 +96,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
 static const IntegratorRegistration registration({
     "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
     {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples"),
-     params::choice("lanes", "run a row's paths 16 at a time in SIMD lanes where the scene allows (RGB, independent samples; "
+     params::choice("lanes", "run paths 16 at a time in SIMD lanes where the scene allows (RGB, independent samples; "
                     "Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster",
                     "on", {"on", "off"})},
     [](const ParamSet& p, const RenderOptions& o) {

@@ -1,5 +1,5 @@
 // The path tracer's estimator, 16 paths at a time in SIMD lanes (a wavefront, as Mitsuba 3's
-// LLVM backend and pbrt-v4's GPU path run theirs). PathIntegrator hands it a row of camera samples
+// LLVM backend and pbrt-v4's GPU path run theirs). PathIntegrator hands it a batch of rows of camera samples
 // when the scene is one it covers; it computes, for each, what PathIntegrator::Li computes, with
 // the same random numbers drawn in the same order, so the two agree pixel by pixel up to
 // floating-point rounding.
@@ -25,7 +25,7 @@ class PathLanes {
   PathLanes(const PathLanes&) = delete;
   PathLanes& operator=(const PathLanes&) = delete;
 
-  // samples[k].L for n camera samples (any n: a row's), paths of at most maxDepth bounces.
+  // samples[k].L for n camera samples (any n: a batch of rows), paths of at most maxDepth bounces.
   // Each sample's sampler must draw independent numbers (no Sobol' slots).
   void trace(PixelIntegrator::CameraSample* samples, int n, int maxDepth) const;
 

@@ -78,21 +78,28 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   Progress progress(o, range.count());
   Checkpoints checkpoints(o, budget);
   for (int s = first; s < target && !budget.expired(); s += step) {
-    // One row per work item: each pixel is touched by one thread per pass, in sample order,
+    // Whole rows per work item: each pixel is touched by one thread per pass, in sample order,
     // so the sums are identical whatever the thread count. Pixels go to the integrator
-    // packetSize() at a time (neighbours in the row), for integrators that trace their rays together; each
-    // keeps its own stream and sampler. The budget is polled per such group (a whole row for an
-    // integrator that takes one: PixelIntegrator::packetSize).
-    parallelFor(size_t(H), threads, [&](size_t y, int) {
-      const int packet = std::max(1, std::min(integrator.packetSize(), W));
+    // packetSize() at a time (neighbours in reading order), for integrators that trace their
+    // rays together; each keeps its own stream and sampler. An item holds as many rows as fit in
+    // one packet (one row for most integrators; e.g. 4 rows of 256 pixels for the path tracer's
+    // lanes, whose 16-lane packets stay fuller the more paths they draw from: Integrators in
+    // README), a grouping fixed by the image's width alone. The budget is polled per packet.
+    const int rowsPerItem = std::max(1, std::min(integrator.packetSize() / W, H));
+    const int items = (H + rowsPerItem - 1) / rowsPerItem;
+    parallelFor(size_t(items), threads, [&](size_t item, int) {
+      const int y0 = int(item) * rowsPerItem, rows = std::min(rowsPerItem, H - y0);
+      const int itemPixels = W * rows;
+      const int packet = std::max(1, std::min(integrator.packetSize(), itemPixels));
       std::vector<CameraPath> paths(static_cast<size_t>(packet));
       std::vector<std::optional<Sampler>> samplers(static_cast<size_t>(packet));
       std::vector<PixelIntegrator::CameraSample> samples(static_cast<size_t>(packet));
-      for (int x0 = 0; x0 < W; x0 += packet) {
+      // Pixel i of the item is (i mod W, y0 + i div W), image pixel y0·W + i.
+      for (int i0 = 0; i0 < itemPixels; i0 += packet) {
         if (budget.expired()) return;
-        const int n = std::min(packet, W - x0);
+        const int n = std::min(packet, itemPixels - i0);
         for (int k = 0; k < n; ++k) {
-          const int x = x0 + k;
+          const int x = (i0 + k) % W, y = y0 + (i0 + k) / W;
           const uint64_t pixel = uint64_t(y) * W + x;
           paths[k] = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
           Sampler& sampler = samplers[k].emplace(paths[k].rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
@@ -101,7 +108,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         }
         integrator.LiPacket(samples.data(), n, scene);
         for (int k = 0; k < n; ++k) {
-          const uint64_t pixel = uint64_t(y) * W + x0 + k;
+          const int y = y0 + (i0 + k) / W;
+          const uint64_t pixel = uint64_t(y0) * W + uint64_t(i0 + k);
           Spectrum L = samples[k].L;
           if (o.spectral) L = spectralToRGB(L, paths[k].lambda.lambda);
           ++count[pixel];
