@@ -9,6 +9,7 @@
 
 #include <cmath>
 
+#include "core/lanes_isa.h"
 #include "integrator_helpers.h"
 #include "integrators/path.h"
 #include "scene/gltf_loader.h"
@@ -23,18 +24,33 @@ std::unique_ptr<Integrator> path(const RenderOptions& o, const char* lanes, int 
 
 const PathIntegrator& asPath(const Integrator& i) { return dynamic_cast<const PathIntegrator&>(i); }
 
+// Runs the kernel's copy for one instruction set (core/lanes_isa.h) while it lives.
+struct LanesCopy {
+  explicit LanesCopy(const char* isa) { setenv("PHOTONLAB_LANES_ISA", isa, 1); }
+  ~LanesCopy() { unsetenv("PHOTONLAB_LANES_ISA"); }
+};
+
+// Both copies of the kernel where this CPU runs both; the baseline one everywhere.
+std::vector<const char*> copies() {
+  if (lanes::cpuHasAvx512()) return {"avx512", "baseline"};
+  return {"baseline"};
+}
+
 }  // namespace
 
 TEST_CASE("path lanes: the scalar path tracer's image pixel by pixel, on the scenes the lanes cover") {
-  // Rows of 37 pixels: two full packets and a partial one, so that compaction moves paths
-  // between packets. 8 spp, both threads.
+  // Rows of 37 pixels, so that a batch of rows and its packets end mid-row and compaction moves
+  // paths between packets. 8 spp, both threads. Each copy of the kernel: the AVX-512 one (whose
+  // comparisons are vector instructions) and the baseline one (lane by lane, and no FMA).
   struct Case {
     const char* file;
     int maxDepth;
   };
+  for (const char* isa : copies())
   for (const Case& c : {Case{"cornell-box.gltf", 64}, Case{"cornell-spheres.gltf", 64}, Case{"cornell-spheres.gltf", 3},
                         Case{"door.gltf", 64}, Case{"furnace.gltf", 64}}) {
-    INFO(c.file << ", max depth " << c.maxDepth);
+    INFO(c.file << ", max depth " << c.maxDepth << ", the " << isa << " copy");
+    LanesCopy copy(isa);
     auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + c.file);
     RenderOptions o;
     o.width = 37, o.height = 29, o.spp = 8, o.threads = 2;
@@ -67,6 +83,7 @@ TEST_CASE("path lanes: the scalar path tracer's image pixel by pixel, on the sce
 }
 
 TEST_CASE("path lanes: the same image bit for bit whatever the thread count") {
+  LanesCopy copy(copies().front());
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");
   RenderOptions o;
   o.width = 45, o.height = 20, o.spp = 4;
@@ -102,6 +119,7 @@ TEST_CASE("path lanes: what they do not cover runs one path at a time, unchanged
 }
 
 TEST_CASE("path lanes: unsupported() names what a scene has that they do not cover") {
+  LanesCopy copy("baseline");
   auto reason = [](const char* file) {
     return PathLanes::unsupported(*loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + file));
   };
@@ -111,4 +129,20 @@ TEST_CASE("path lanes: unsupported() names what a scene has that they do not cov
   CHECK(reason("smallvcm-point.gltf") == "a point light");
   CHECK(reason("glass-caustic.gltf") == "a spot light");
   CHECK_THROWS_AS(PathLanes(*loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/sky.gltf")), Error);
+}
+
+TEST_CASE("path lanes: only where they pay, and PHOTONLAB_LANES_ISA checked") {
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+  // Without AVX-512 the lanes (the baseline copy) are slower than one path at a time: the
+  // path tracer says so and runs one path at a time, unless a copy is asked for.
+  if (!lanes::cpuHasAvx512()) CHECK(PathLanes::unsupported(*scene) == "a CPU without AVX-512, where lanes are slower than one path at a time");
+  else CHECK(PathLanes::unsupported(*scene).empty());
+  {
+    LanesCopy copy("sse9");
+    CHECK_THROWS_WITH(lanes::bestIsa(), "PHOTONLAB_LANES_ISA: 'sse9' is neither avx512 nor baseline");
+  }
+  if (!lanes::cpuHasAvx512()) {
+    LanesCopy copy("avx512");
+    CHECK_THROWS_WITH(lanes::bestIsa(), "PHOTONLAB_LANES_ISA: this CPU has no AVX-512");
+  }
 }

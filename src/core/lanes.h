@@ -1,9 +1,22 @@
 // Sixteen values in one vector register: the arithmetic of code that runs 16 paths side by side
 // in SIMD lanes (bench/least_path_loop_simd.cpp, integrators/path_lanes.cpp). GCC's vector
 // extensions: +, −, ×, ÷ and comparisons act lane by lane (a comparison gives 0 or −1 per lane),
-// and `mask ? a : b` selects. A file using them compiles its kernels for several instruction sets
-// (PL_LANE_CLONES), so the build needs no -march.
-#pragma once
+// and `mask ? a : b` selects.
+//
+// One copy per instruction set, in namespace pl::lanes::PL_LANES_ISA (so no #pragma once): a
+// kernel that uses these helpers is compiled whole for AVX-512, AVX2 and baseline x86-64 by
+// core/lanes_copies.h, and the CPU picks one at run time (lanes::bestIsa). Why not GCC's
+// target_clones, which the kernels had before: GCC 12 lowers a vector comparison for the
+// instruction set of the function it is written in, before inlining, and a target_clones
+// function or a helper without a target is written for baseline x86-64, where a 64-byte vector
+// is not a register. Every comparison whose mask was combined (&, |) or selected integers was
+// then compiled lane by lane (vcomiss, seta, vpinsrd: 288 scalar compares in the path tracer's
+// kernel), which cost the path tracer 14–16% of its time (docs/performance.md). Under
+// `#pragma GCC target("arch=x86-64-v4")` they are one vcmpps each. (With AVX2 a 16-lane
+// comparison is still split lane by lane; that copy is the fallback for CPUs without AVX-512.)
+#ifndef PL_LANES_ISA
+#error "core/lanes.h is included by a kernel through core/lanes_copies.h, which names the instruction set"
+#endif
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -14,15 +27,7 @@
 // AVX-512. None crosses a library boundary.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-// A kernel compiled for AVX-512, AVX2 and baseline x86-64; the first the CPU has is chosen when
-// the program loads.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define PL_LANE_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define PL_LANE_CLONES
-#endif
-
-namespace pl::lanes {
+namespace pl::lanes::PL_LANES_ISA {
 
 constexpr int kLanes = 16;
 typedef float Floats __attribute__((vector_size(4 * kLanes)));
@@ -162,4 +167,4 @@ struct Frames {
   }
 };
 
-}  // namespace pl::lanes
+}  // namespace pl::lanes::PL_LANES_ISA
