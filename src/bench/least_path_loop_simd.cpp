@@ -1,5 +1,6 @@
 // The least path loop in 16 SIMD lanes (bench/least_path_loop.h): what a vectorised wavefront
 // design buys a path tracer, measured on the same estimator as the one-path-at-a-time loop.
+// The kernel is least_path_loop_simd_kernel.h, compiled once per instruction set.
 //
 // A row's paths for one sample index (one per pixel, as the render loop's passes hold them)
 // advance bounce by bounce. Each bounce takes the live paths 16 at a time: their rays go to

@@ -1,5 +1,6 @@
-// The path tracer (integrators/path.cpp) in 16 SIMD lanes. Read path.cpp first: this file
-// computes the same estimator, step for step, for 16 paths per instruction.
+// The path tracer (integrators/path.cpp) in 16 SIMD lanes. Read path.cpp first: this file and
+// its kernel (path_lanes_kernel.h, compiled once per instruction set) compute the same
+// estimator, step for step, for 16 paths per instruction.
 //
 // A bounce of 16 paths: their rays go to the scene's Embree scene as one packet
 // (rtcIntersect16); the hits are rebuilt from the triangles' records (position and shading
@@ -16,7 +17,7 @@
 // can flip a rare comparison (a roulette draw next to q, a cosine next to 0).
 //
 // Why lanes: the arithmetic of 16 paths runs in the time of about one, and Embree's packets
-// cost less per ray than single rays; with the work of a row (hundreds of paths) the packets
+// cost less per ray than single rays; with the work of a few rows (1024 paths) the packets
 // stay full. Measured: docs/performance.md.
 #include "integrators/path_lanes.h"
 
