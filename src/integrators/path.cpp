@@ -96,8 +96,8 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
 static const IntegratorRegistration registration({
     "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
     {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples"),
-     params::choice("lanes", "run paths 16 at a time in SIMD lanes where the scene allows (RGB, independent samples; "
-                    "Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster",
+     params::choice("lanes", "run paths 16 at a time in SIMD lanes where the CPU and the scene allow (AVX-512; RGB, independent "
+                    "samples; Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster",
                     "on", {"on", "off"})},
     [](const ParamSet& p, const RenderOptions& o) {
       return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol",

@@ -13,7 +13,7 @@ namespace pl {
 // --sampler sobol draws each path's first random numbers from Owen-scrambled Sobol' points over
 // the pixel's samples (core/sampler.h).
 //
-// `lanes` (the default): where the scene and the options allow (PathLanes::unsupported, RGB,
+// `lanes` (the default): where the CPU, the scene and the options allow (PathLanes::unsupported: AVX-512, RGB,
 // independent samples), a batch of rows' paths run 16 at a time in SIMD lanes (integrators/path_lanes.h),
 // the same estimator with the same random numbers; elsewhere, and with lanes off, one at a time.
 class PathIntegrator final : public PixelIntegrator {
