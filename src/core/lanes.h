@@ -4,16 +4,16 @@
 // and `mask ? a : b` selects.
 //
 // One copy per instruction set, in namespace pl::lanes::PL_LANES_ISA (so no #pragma once): a
-// kernel that uses these helpers is compiled whole for AVX-512, AVX2 and baseline x86-64 by
-// core/lanes_copies.h, and the CPU picks one at run time (lanes::bestIsa). Why not GCC's
+// kernel that uses these helpers is compiled whole for AVX-512 and for baseline x86-64 by
+// core/lanes_copies.h, and one is picked at run time (core/lanes_isa.h). Why not GCC's
 // target_clones, which the kernels had before: GCC 12 lowers a vector comparison for the
 // instruction set of the function it is written in, before inlining, and a target_clones
 // function or a helper without a target is written for baseline x86-64, where a 64-byte vector
 // is not a register. Every comparison whose mask was combined (&, |) or selected integers was
 // then compiled lane by lane (vcomiss, seta, vpinsrd: 288 scalar compares in the path tracer's
-// kernel), which cost the path tracer 14–16% of its time (docs/performance.md). Under
-// `#pragma GCC target("arch=x86-64-v4")` they are one vcmpps each. (With AVX2 a 16-lane
-// comparison is still split lane by lane; that copy is the fallback for CPUs without AVX-512.)
+// kernel), which cost the path tracer 13–17% of its time (docs/performance.md). Under
+// `#pragma GCC target("arch=x86-64-v4")` they are one vcmpps each. (Without 64-byte registers,
+// in the baseline copy or an AVX2 one, a 16-lane comparison is still split lane by lane.)
 #ifndef PL_LANES_ISA
 #error "core/lanes.h is included by a kernel through core/lanes_copies.h, which names the instruction set"
 #endif
