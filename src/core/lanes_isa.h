@@ -31,8 +31,7 @@ inline bool cpuHasAvx512() {
 }
 
 // The copy PHOTONLAB_LANES_ISA names, if it is set (an unknown name, or avx512 on a CPU without
-// it, is an error). Read on every call (getenv: ~100 ns, against ~100 µs per batch of paths), so
-// a test can switch it.
+// it, is an error). Read on every call, so that a test can switch it between renders.
 inline const char* requestedIsa(Isa* isa) {
   const char* name = std::getenv("PHOTONLAB_LANES_ISA");
   if (!name) return nullptr;

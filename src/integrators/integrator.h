@@ -69,9 +69,9 @@ class PixelIntegrator : public Integrator {
   virtual void LiPacket(CameraSample* samples, int n, const Scene& scene) const {
     for (int k = 0; k < n; ++k) samples[k].L = Li(samples[k].ray, scene, *samples[k].lambda, *samples[k].sampler);
   }
-  // How many neighbouring pixels LiPacket takes at once: the rest of the row at most, or whole
-  // rows where packetSize() holds more than one (renderer.cpp):
-  // Scene::kPacket, or more for an integrator that runs many paths side by side.
+  // How many neighbouring pixels LiPacket takes at once: Scene::kPacket, or more for an
+  // integrator that runs many paths side by side. Where it holds several rows, the renderer
+  // hands it whole rows together (renderer.cpp).
   virtual int packetSize() const { return Scene::kPacket; }
   // --sampler sobol (core/sampler.h): how many of each camera path's draws, the pixel jitter
   // first, are Owen-scrambled Sobol' points over the pixel's samples; 0: independent draws.

@@ -70,7 +70,7 @@ std::string PathLanes::unsupported(const Scene& scene) {
   return {};
 }
 
-PathLanes::PathLanes(const Scene& scene) : scene_(scene) {
+PathLanes::PathLanes(const Scene& scene) : scene_(scene), isa_(lanes::bestIsa()) {
   if (const std::string why = unsupported(scene); !why.empty()) throw Error("path lanes: " + why);
   for (const Material& m : scene.materials()) {
     int32_t kind = kLambertian;
@@ -141,7 +141,7 @@ namespace pl {
 void PathLanes::trace(PixelIntegrator::CameraSample* samples, int n, int maxDepth) const {
   const Context c{triangles_, firstTriangle_, normals_, surfaces_, emitters_, scene_.lightDistribution(), scene_.embreeScene(),
                   scene_.epsilon(), maxDepth};
-  switch (lanes::bestIsa()) {
+  switch (isa_) {
     case lanes::Isa::Avx512: return path_lanes::avx512::traceLanes(samples, n, c);
     case lanes::Isa::Baseline: return path_lanes::baseline::traceLanes(samples, n, c);
   }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/lanes_isa.h"
 #include "integrators/integrator.h"
 
 namespace pl {
@@ -62,6 +63,7 @@ class PathLanes {
   std::vector<Normals> normals_;
   std::vector<Surface> surfaces_;
   std::vector<Emitter> emitters_;  // by index in Scene::lights()
+  lanes::Isa isa_;                 // the kernel's copy that runs (lanes::bestIsa, once per render)
 };
 
 }  // namespace pl
