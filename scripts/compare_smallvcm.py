@@ -38,7 +38,9 @@ renders of one iteration each per codebase (interleaved, seeds all distinct), an
 pixels brighter than 50, 100, 200, 500 and 1000 (largest channel). One iteration's image is its
 samples, so a pixel above 50 where the image averages 0.5 is one sample of that size: the counts
 per 100 iterations compare the two estimators' tails directly, with no reference and none of the
-luck that a few 20 s renders leave to whether a rare large sample fell in them.
+luck that a few 20 s renders leave to whether a rare large sample fell in them. It also fits
+the tail's Pareto index α to the samples above 50 and above 100 (tail_index): α ≤ 2 is a tail
+with no finite variance.
 
 Usage: python3 scripts/compare_smallvcm.py --smallvcm-src DIR [--seconds 20] [--reference-iterations 1024]
        [--reference-seconds 600]
@@ -120,19 +122,38 @@ TAIL_THRESHOLDS = (50, 100, 200, 500, 1000)
 
 
 def count_above(path, thresholds=TAIL_THRESHOLDS):
-    """(pixels whose largest channel exceeds each threshold, the image's mean) of an EXR or HDR image."""
+    """(pixels whose largest channel exceeds each threshold, the image's mean, the values above
+    the lowest threshold) of an EXR or HDR image."""
     rgb = read_rgb(path)
     largest = rgb.max(axis=-1)
-    return [int((largest > t).sum()) for t in thresholds], float(rgb.mean())
+    return ([int((largest > t).sum()) for t in thresholds], float(rgb.mean()),
+            [float(v) for v in largest[largest > thresholds[0]]])
+
+
+def tail_index(values, u):
+    """The Pareto tail index α of the samples above u, by maximum likelihood (Hill 1975):
+    P(X > x | X > u) = (x/u)^−α gives α̂ = n / Σ ln(x_i/u), with standard error α̂/√n.
+    α ≤ 2 means the samples have no finite variance: then the squared error of an n-sample mean
+    has no finite expectation (its tail is x^−α/2), and a mean of per-run relMSE does not
+    settle as runs are added; the median of runs does."""
+    import math
+    logs = [math.log(v / u) for v in values if v > u]
+    if not logs or sum(logs) <= 0:
+        return float("nan"), float("nan"), len(logs)
+    alpha = len(logs) / sum(logs)
+    return alpha, alpha / math.sqrt(len(logs)), len(logs)
 
 
 def tail_table(counts, iterations, thresholds=TAIL_THRESHOLDS):
     """Markdown rows: per (scene, code, method), samples above each threshold per 100 iterations,
     with the Poisson standard error of the count (sqrt n)."""
-    rows = ["| scene | code | method | iterations | mean | " + " | ".join("> %g" % t for t in thresholds) + " |",
-            "|---|---|---|---|---|" + "---|" * len(thresholds)]
-    for (scene, code, method), (totals, mean) in counts.items():
+    fits = thresholds[:2]
+    rows = ["| scene | code | method | iterations | mean | " + " | ".join("> %g" % t for t in thresholds) + " | " +
+            " | ".join("tail index α above %g" % u for u in fits) + " |",
+            "|---|---|---|---|---|" + "---|" * (len(thresholds) + len(fits))]
+    for (scene, code, method), (totals, mean, values) in counts.items():
         cells = ["%.1f ± %.1f" % (100.0 * n / iterations, 100.0 * n ** 0.5 / iterations) for n in totals]
+        cells += ["%.2f ± %.2f (%d)" % tail_index(values, u) for u in fits]
         rows.append("| %s | %s | `%s` | %d | %.4f | %s |" % (scene, code, method, iterations, mean / iterations,
                                                              " | ".join(cells)))
     return "\n".join(rows) + "\n"
@@ -155,9 +176,9 @@ def run_tail(a, binary, pairs):
                         out = os.path.join(a.out, "tail-smallvcm.hdr")
                         subprocess.run([binary, "-s", str(SCENES[scene]), "-a", method, "-i", "1", "-o", out], check=True,
                                        capture_output=True, env=dict(os.environ, SMALLVCM_SEED=str(30000 + k)))
-                    above, mean = count_above(out)
-                    totals, means = counts.setdefault((scene, code, method), ([0] * len(above), 0.0))
-                    counts[(scene, code, method)] = ([x + y for x, y in zip(totals, above)], means + mean)
+                    above, mean, values = count_above(out)
+                    totals, means, kept = counts.setdefault((scene, code, method), ([0] * len(above), 0.0, []))
+                    counts[(scene, code, method)] = ([x + y for x, y in zip(totals, above)], means + mean, kept + values)
     text = tail_table(counts, a.tail)
     open(os.path.join(a.out, "tail.md"), "w").write(text)
     print(text)
@@ -187,12 +208,25 @@ def ratio_of_means(ours, theirs, resamples=10000, level=0.90, seed=1):
     codebase's runs are its own independent draws). A few runs that caught a large firefly
     decide a short render's relMSE, so the interval, not the ratio alone, says whether a
     target such as 0.8 is shown. A fixed seed: the same runs give the same interval."""
+    return bootstrap_ratio(ours, theirs, "mean", resamples, level, seed)
+
+
+def ratio_of_medians(ours, theirs, resamples=10000, level=0.90, seed=1):
+    """median(ours) / median(theirs), with the same bootstrap interval. Where single samples have
+    no finite variance (a tail index α ≤ 2, tail_index) a run's relMSE has no finite mean, and
+    the ratio of means drifts with the largest run either side drew; the median of runs exists
+    whatever the tail, and is what one run of each codebase most likely shows."""
+    return bootstrap_ratio(ours, theirs, "median", resamples, level, seed)
+
+
+def bootstrap_ratio(ours, theirs, statistic, resamples=10000, level=0.90, seed=1):
     import numpy as np
+    f = {"mean": np.mean, "median": np.median}[statistic]
     a, b = np.asarray(ours, float), np.asarray(theirs, float)
-    ratio = float(a.mean() / b.mean())
+    ratio = float(f(a) / f(b))
     rng = np.random.default_rng(seed)
-    ra = a[rng.integers(0, a.size, (resamples, a.size))].mean(axis=1)
-    rb = b[rng.integers(0, b.size, (resamples, b.size))].mean(axis=1)
+    ra = f(a[rng.integers(0, a.size, (resamples, a.size))], axis=1)
+    rb = f(b[rng.integers(0, b.size, (resamples, b.size))], axis=1)
     lo, hi = np.quantile(ra / rb, [(1 - level) / 2, (1 + level) / 2])
     return ratio, float(lo), float(hi)
 
@@ -255,8 +289,8 @@ def main():
             if ("photonlab", ours) in results and ("SmallVCM", theirs) in results:
                 mine, other = results[("photonlab", ours)], results[("SmallVCM", theirs)]
                 r, lo, hi = ratio_of_means([x[2] for x in mine], [x[2] for x in other])
-                ratios.append((scene, ours, theirs, len(mine), r, lo, hi,
-                               statistics.median(x[2] for x in mine) / statistics.median(x[2] for x in other),
+                rm, mlo, mhi = ratio_of_medians([x[2] for x in mine], [x[2] for x in other])
+                ratios.append((scene, ours, theirs, len(mine), r, lo, hi, rm, mlo, mhi,
                                sum(x[3] for x in mine) / sum(x[3] for x in other)))
             for (code, method), runs in results.items():
                 mean = sum(r[2] for r in runs) / len(runs)
@@ -274,12 +308,12 @@ def main():
         table.append("| %s | %s | `%s` | %s | %.1f s | %.4f | %.4f | %.4f | %s |"
                      % (scene, code, method, work, wall, err, median, trimmed, each))
     if ratios:
-        table += ["", "| scene | photonlab / SmallVCM | runs | ratio of means (90% bootstrap interval) | ratio of medians | "
-                      "ratio of best 99% of pixels |",
+        table += ["", "| scene | photonlab / SmallVCM | runs | ratio of means (90% bootstrap interval) | "
+                      "ratio of medians (90% bootstrap interval) | ratio of best 99% of pixels |",
                   "|---|---|---|---|---|---|"]
-        for scene, ours, theirs, n, r, lo, hi, median, trimmed in ratios:
-            table.append("| %s | `%s` / `%s` | %d | %.2f (%.2f–%.2f) | %.2f | %.2f |"
-                         % (scene, ours, theirs, n, r, lo, hi, median, trimmed))
+        for scene, ours, theirs, n, r, lo, hi, rm, mlo, mhi, trimmed in ratios:
+            table.append("| %s | `%s` / `%s` | %d | %.2f (%.2f–%.2f) | %.2f (%.2f–%.2f) | %.2f |"
+                         % (scene, ours, theirs, n, r, lo, hi, rm, mlo, mhi, trimmed))
     text = "\n".join(table) + "\n"
     open(os.path.join(a.out, "table.md"), "w").write(text)
     print(text)

@@ -371,7 +371,7 @@ def test_compare_smallvcm_first_run_draws_other_seeds_and_reports_the_median(tmp
     assert rows[2].startswith("| point | photonlab | `bdpt` | 40 iterations | 20.0 s | 64.6667 | 64.0000 | 0.5000 |")
     assert rows[3].startswith("| point | SmallVCM | `bpt` | 30 iterations | 20.0 s | 7296666.6667 | 7290000.0000 | 0.5000 |")
     # The pair's ratios: 64.67 / 7.3e6 and 64 / 7.29e6 round to 0.00; the best-99% means are equal.
-    assert rows[-1] == "| point | `bdpt` / `bpt` | 3 | 0.00 (0.00–0.00) | 0.00 | 1.00 |"
+    assert rows[-1] == "| point | `bdpt` / `bpt` | 3 | 0.00 (0.00–0.00) | 0.00 (0.00–0.00) | 1.00 |"
 
 
 def test_compare_smallvcm_ratio_of_means_and_its_bootstrap_interval():
@@ -396,6 +396,27 @@ def test_compare_smallvcm_ratio_of_means_and_its_bootstrap_interval():
     assert 0.82 * 200 <= covered <= 0.97 * 200
 
 
+def test_compare_smallvcm_ratio_of_medians_holds_where_runs_have_no_finite_mean():
+    import compare_smallvcm as cs
+    # The medians 2 and 4, whatever the 30; resampled medians lie between 1/4 and 30/2.
+    r, lo, hi = cs.ratio_of_medians([1.0, 2.0, 30.0], [2.0, 4.0, 4.0])
+    assert r == 0.5 and 0.25 <= lo <= r <= hi <= 15.0
+    # Runs whose relMSE is a floor plus a Pareto excess of index 0.75 (no finite mean: what
+    # single samples of tail index 1.5 give a run's squared error), photonlab's 0.8× SmallVCM's
+    # in distribution. The ratio of the medians is then 0.8 for every sample size; its 90%
+    # interval should hold 0.8 in about 90% of 200 comparisons of 40 runs: binomial standard
+    # deviation 2.1%, and a bootstrap median interval is a little conservative (the resampled
+    # medians take few values), so 86–99%.
+    rng = np.random.default_rng(5)
+    covered = 0
+    for _ in range(200):
+        ours, theirs = (scale * (0.01 + 0.004 * (rng.uniform(size=40) ** (-1 / 0.75) - 1)) for scale in (0.8, 1.0))
+        r, lo, hi = cs.ratio_of_medians(ours, theirs, resamples=1000)
+        assert lo <= r <= hi
+        covered += lo <= 0.8 <= hi
+    assert 0.86 * 200 <= covered <= 0.99 * 200
+
+
 def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulates_rates(tmp_path):
     # --tail counts, in one-iteration images, the pixels whose largest channel exceeds each
     # threshold; SmallVCM writes Radiance .hdr, photonlab EXR: both must read the same.
@@ -410,13 +431,40 @@ def test_compare_smallvcm_tail_counts_bright_samples_in_exr_and_hdr_and_tabulate
         out.open(path, oiio.ImageSpec(32, 24, 3, oiio.FLOAT))
         out.write_image(img)
         out.close()
-        above, mean = cs.count_above(path)
+        above, mean, values = cs.count_above(path)
         assert above == [3, 2, 2, 1, 1], name
         assert mean == pytest.approx(float(img.mean()), rel=0.01), name  # RGBE keeps ~1% per value
-    # Rates per 100 iterations with the Poisson standard error sqrt(n): 4 in 200 -> 2.0 ± 1.0.
-    text = cs.tail_table({("point", "photonlab", "bdpt"): ([4, 1, 0, 0, 0], 100.0)}, 200)
+        assert sorted(values) == pytest.approx([60.0, 250.0, 1500.0], rel=0.01), name  # above 50, for the fit
+    # Rates per 100 iterations with the Poisson standard error sqrt(n): 4 in 200 -> 2.0 ± 1.0;
+    # the tail index of samples 50·e and 50·e³: above 50, α̂ = 2 / (1 + 3) = 0.5, ± 0.5/√2; above
+    # 100, 2 / (1 + 3 − 2 ln 2) = 0.765, ± 0.765/√2.
+    values = [50 * np.e, 50 * np.e ** 3]
+    text = cs.tail_table({("point", "photonlab", "bdpt"): ([4, 1, 0, 0, 0], 100.0, values)}, 200)
     row = text.strip().splitlines()[-1]
     assert row.startswith("| point | photonlab | `bdpt` | 200 | 0.5000 | 2.0 ± 1.0 | 0.5 ± 0.5 | 0.0 ± 0.0 |")
+    assert row.endswith("| 0.50 ± 0.35 (2) | 0.77 ± 0.54 (2) |")
+
+
+def test_compare_smallvcm_tail_index_recovers_a_pareto_tail():
+    # Hill's estimator on samples drawn from a Pareto tail of known index, above a threshold:
+    # P(X > x) = (x/x_m)^−α, x_m = 1. Above u the tail is again Pareto with the same α, so the
+    # fit must find the generating α within its standard error α/√n; 4 standard errors (the
+    # fixed seed makes this one draw, which a correct estimator misses with probability 6e-5).
+    import compare_smallvcm as cs
+    rng = np.random.default_rng(11)
+    for alpha in (1.5, 3.0):
+        x = rng.uniform(size=20000) ** (-1.0 / alpha)  # inverse CDF of the Pareto law
+        for u in (2.0, 5.0):
+            a, se, n = cs.tail_index(x, u)
+            assert n == int((x > u).sum())
+            assert se == pytest.approx(a / np.sqrt(n))
+            assert abs(a - alpha) < 4 * alpha / np.sqrt(n), (alpha, u, a, n)
+    # An exponential tail is lighter than any power law: the fit reads a large index, growing
+    # with the threshold (α̂ = u for an exponential of rate 1 above u, roughly).
+    y = rng.exponential(size=20000)
+    assert cs.tail_index(y, 3.0)[0] > 2.5 and cs.tail_index(y, 5.0)[0] > 4.0
+    # Nothing above the threshold: no fit.
+    assert np.isnan(cs.tail_index([1.0, 2.0], 5.0)[0])
 
 
 def test_image_readers_see_a_file_rewritten_under_the_same_name(tmp_path):
