@@ -22,8 +22,9 @@ are in OUT already.
 Beside each mean relMSE the table gives the mean over each image's best 99% of pixels (the bulk
 of the error, without the few single samples that decide a 20 s run) and every run's values.
 Where both codebases ran a pair, a second table gives photonlab's mean over SmallVCM's with a
-90% bootstrap interval over the runs (ratio_of_means), and the ratios of the medians and of
-the best-99% means.
+90% bootstrap interval over the runs (ratio_of_means), the ratio of the medians with its own
+interval (ratio_of_medians: the one that exists where single samples have no finite variance,
+as bdpt's under the point light, see --tail), and the ratio of the best-99% means.
 
 Run k renders with photonlab seed k + 1 and SmallVCM seed 2000 + 100 k (each of its threads adds
 its number). Runs are therefore repeatable, and two comparisons with the same runs draw the same
@@ -220,6 +221,7 @@ def ratio_of_medians(ours, theirs, resamples=10000, level=0.90, seed=1):
 
 
 def bootstrap_ratio(ours, theirs, statistic, resamples=10000, level=0.90, seed=1):
+    """statistic(ours) / statistic(theirs) ("mean" or "median") and its percentile bootstrap interval."""
     import numpy as np
     f = {"mean": np.mean, "median": np.median}[statistic]
     a, b = np.asarray(ours, float), np.asarray(theirs, float)
