@@ -9,8 +9,8 @@
 #include <cstring>
 
 #include "bench/least_path_loop.h"
-#include "core/lanes_isa.h"
 #include "integrator_helpers.h"
+#include "lanes_helpers.h"
 #include "scene/gltf_loader.h"
 #include "scene_helpers.h"
 
@@ -76,12 +76,10 @@ TEST_CASE("the least path loop in 16 SIMD lanes computes the one-path loop's ima
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
   const int W = 48, H = 40, spp = 16;
   // Each copy of the kernel (core/lanes_copies.h): AVX-512 where the CPU has it, and baseline.
-  std::vector<const char*> copies{"baseline"};
-  if (lanes::cpuHasAvx512()) copies.insert(copies.begin(), "avx512");
-  for (const char* isa : copies)
+  for (const char* isa : lanesCopies())
   for (uint64_t seed : {1, 5}) {
     INFO("the " << isa << " copy");
-    setenv("PHOTONLAB_LANES_ISA", isa, 1);
+    LanesCopy copy(isa);
     const LeastPathResult one = leastPathLoop(*scene, W, H, spp, 64, 2, seed);
     const LeastPathResult lanes = leastPathLoopSimd(*scene, W, H, spp, 64, 2, seed);
     size_t differing = 0;  // pixel-channels more than 10⁻⁴ apart (relative)
@@ -102,7 +100,6 @@ TEST_CASE("the least path loop in 16 SIMD lanes computes the one-path loop's ima
     // Rows are independent work items: one thread gives the same bits as two.
     const LeastPathResult single = leastPathLoopSimd(*scene, W, H, spp, 64, 1, seed);
     CHECK(std::memcmp(single.image.data(), lanes.image.data(), lanes.image.size() * sizeof(Vec3)) == 0);
-    unsetenv("PHOTONLAB_LANES_ISA");
   }
 }
 

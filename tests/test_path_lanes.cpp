@@ -11,10 +11,13 @@
 
 #include "core/lanes_isa.h"
 #include "integrator_helpers.h"
+#include "lanes_helpers.h"
 #include "integrators/path.h"
 #include "scene/gltf_loader.h"
 
 using namespace pl;
+using pl::test::LanesCopy;
+using pl::test::lanesCopies;
 
 namespace {
 
@@ -23,18 +26,6 @@ std::unique_ptr<Integrator> path(const RenderOptions& o, const char* lanes, int 
 }
 
 const PathIntegrator& asPath(const Integrator& i) { return dynamic_cast<const PathIntegrator&>(i); }
-
-// Runs the kernel's copy for one instruction set (core/lanes_isa.h) while it lives.
-struct LanesCopy {
-  explicit LanesCopy(const char* isa) { setenv("PHOTONLAB_LANES_ISA", isa, 1); }
-  ~LanesCopy() { unsetenv("PHOTONLAB_LANES_ISA"); }
-};
-
-// Both copies of the kernel where this CPU runs both; the baseline one everywhere.
-std::vector<const char*> copies() {
-  if (lanes::cpuHasAvx512()) return {"avx512", "baseline"};
-  return {"baseline"};
-}
 
 }  // namespace
 
@@ -46,7 +37,7 @@ TEST_CASE("path lanes: the scalar path tracer's image pixel by pixel, on the sce
     const char* file;
     int maxDepth;
   };
-  for (const char* isa : copies())
+  for (const char* isa : lanesCopies())
   for (const Case& c : {Case{"cornell-box.gltf", 64}, Case{"cornell-spheres.gltf", 64}, Case{"cornell-spheres.gltf", 3},
                         Case{"door.gltf", 64}, Case{"furnace.gltf", 64}}) {
     INFO(c.file << ", max depth " << c.maxDepth << ", the " << isa << " copy");
@@ -83,7 +74,7 @@ TEST_CASE("path lanes: the scalar path tracer's image pixel by pixel, on the sce
 }
 
 TEST_CASE("path lanes: the same image bit for bit whatever the thread count") {
-  LanesCopy copy(copies().front());
+  LanesCopy copy(lanesCopies().front());
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");
   RenderOptions o;
   o.width = 45, o.height = 20, o.spp = 4;
