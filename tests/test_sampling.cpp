@@ -4,6 +4,7 @@
 
 #include "core/qmc.h"
 #include "core/rng.h"
+#include "core/sampler.h"
 #include "core/sampling.h"
 #include "stats.h"
 
@@ -132,6 +133,33 @@ TEST_CASE("qmc: one point over many scrambles is uniform - and two sequences' po
   INFO("q " << mean << " ± " << se << ", mean |q - 4| " << deviation / trials);
   CHECK(std::abs(mean - 4.0) < 4 * se);
   CHECK(deviation / trials < 2.0);
+}
+
+TEST_CASE("qmc: a Sampler's Sobol' slots, made at once, are the points made one by one") {
+  // sobol2DSlots hashes all of a path's slots in one vectorised loop; each must be sobol2D's
+  // point for that slot's seed, bit for bit, and the Sampler must hand them out in slot order
+  // (get1D takes a point's x), then continue with its own stream.
+  int differ = 0;
+  for (uint64_t key = 0; key < 200; ++key)
+    for (uint32_t index : {0u, 1u, 5u, 255u, 1000003u}) {
+      const uint64_t k = mix64(key);
+      for (int count = 1; count <= qmc::kMaxSlots; ++count) {
+        Vec2 points[qmc::kMaxSlots];
+        qmc::sobol2DSlots(index, k, count, points);
+        for (int slot = 0; slot < count; ++slot) {
+          const Vec2 one = qmc::sobol2D(index, qmc::slotSeed(k, slot));
+          differ += points[slot].x != one.x || points[slot].y != one.y;
+        }
+      }
+      Rng a(key), b(key);
+      Sampler sampler(a, true, k, index, 3);
+      CHECK(sampler.get1D() == qmc::sobol2D(index, qmc::slotSeed(k, 0)).x);
+      const Vec2 second = sampler.get2D(), expected = qmc::sobol2D(index, qmc::slotSeed(k, 1));
+      CHECK((second.x == expected.x && second.y == expected.y));
+      CHECK(sampler.get1D() == qmc::sobol2D(index, qmc::slotSeed(k, 2)).x);
+      CHECK(sampler.get1D() == b.uniform());  // past the slots: the stream's first draw
+    }
+  CHECK(differ == 0);
 }
 
 TEST_CASE("AliasTable picks items in proportion to their weights") {

@@ -11,6 +11,7 @@
 // samples of one pixel are spread over the integrand differs.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include "core/qmc.h"
 #include "core/rng.h"
@@ -20,8 +21,12 @@ namespace pl {
 class Sampler {
  public:
   // `key` names the path (its pixel, its light path index; hashed), `index` its sample number.
+  // At most qmc::kMaxSlots slots; their points are made at once, here.
   Sampler(Rng& rng, bool sobol, uint64_t key, uint32_t index, int slots)
-      : rng_(rng), sobol_(sobol), key_(key), index_(index), slots_(slots) {}
+      : rng_(rng), sobol_(sobol && slots > 0), slots_(slots) {
+    if (slots > qmc::kMaxSlots) throw Error("Sampler: more than " + std::to_string(qmc::kMaxSlots) + " Sobol' slots");
+    if (sobol_) qmc::sobol2DSlots(index, key, slots, points_);
+  }
   // Independent draws from `rng` alone.
   explicit Sampler(Rng& rng) : Sampler(rng, false, 0, 0, 0) {}
 
@@ -36,14 +41,12 @@ class Sampler {
   const Rng& rng() const { return rng_; }
 
  private:
-  // Out of line: a Sobol' point costs a hash chain, and the independent draws inline without it.
-  __attribute__((noinline)) Vec2 next() { return qmc::sobol2D(index_, key_ ^ (uint64_t(slot_++) * 0x9e3779b97f4a7c15ULL)); }
+  Vec2 next() { return points_[slot_++]; }
   Rng& rng_;
   bool sobol_;
-  uint64_t key_;
-  uint32_t index_;
   int slots_;
   int slot_ = 0;
+  Vec2 points_[qmc::kMaxSlots];  // slot k: point `index` of the sequence seeded qmc::slotSeed(key, k)
 };
 
 }  // namespace pl
