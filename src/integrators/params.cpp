@@ -153,12 +153,12 @@ ParamSpec progressiveRadius() {
   return s;
 }
 
-ParamSpec sampler(int slots, const std::string& paths, const std::string& over) {
+ParamSpec sampler(int slots, const std::string& paths, const std::string& over, const char* defaultValue) {
   return choice("sampler",
                 "where each " + paths + "'s first " + std::to_string(slots) +
                     " draws (a 1D or 2D sample each" + (paths == "camera path" ? ", the pixel jitter first" : "") +
                     ") come from: independent (a random stream) or sobol (Owen-scrambled Sobol' points over " + over + ")",
-                "independent", {"independent", "sobol"});
+                defaultValue, {"independent", "sobol"});
 }
 
 }  // namespace params

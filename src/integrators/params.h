@@ -94,8 +94,9 @@ ParamSpec photonsPerPass();
 ParamSpec alpha();
 ParamSpec progressiveRadius();
 // --sampler (core/sampler.h): independent, or Sobol' points for the first `slots` draws of each
-// path, `paths` and `over` saying which paths and over what their points are indexed.
-ParamSpec sampler(int slots, const std::string& paths, const std::string& over);
+// path, `paths` and `over` saying which paths and over what their points are indexed;
+// `defaultValue` is the integrator's own choice.
+ParamSpec sampler(int slots, const std::string& paths, const std::string& over, const char* defaultValue = "independent");
 }  // namespace params
 
 }  // namespace pl
