@@ -6,6 +6,7 @@
 // (as the photon tracer's chunk buffers make its maps).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/common.h"
@@ -48,16 +49,32 @@ class SplatFilm {
   // order nor the split into threads changes a bit, and slices of a render add up to its bits.
   // With threads > 1 each thread owns a contiguous band of pixels and adds the splats that land
   // in it (every thread reads every splat; the adds, the cost, are split).
+  //
+  // Splats land on scattered pixels, and added as they come each one missed the cache on its
+  // pixel's three sums (120 bytes, in a film of 31 MB at 512²): 70% of the adds' time sat on
+  // that load (perf annotate, bdpt on SmallVCM's box). So a band's splats are first grouped by
+  // blocks of kBlock pixels (a counting sort: one write stream per block, few enough to stay in
+  // cache), then added block by block. Exact sums make the new order change no bit.
   void add(const std::vector<SplatBuffer>& buffers, int threads = 1) {
     const size_t parts = size_t(std::max(1, threads)), pixels = size_t(width_) * size_t(height_);
     parallelFor(parts, threads, [&](size_t part, int) {
       const size_t lo = pixels * part / parts, hi = pixels * (part + 1) / parts;
+      const size_t blocks = (hi - lo + kBlock - 1) / kBlock;
+      std::vector<size_t> next(blocks + 1, 0);  // counts, then each block's next free slot
       for (const SplatBuffer& b : buffers)
-        for (const Splat& s : b.splats()) {
-          if (s.pixel < lo || s.pixel >= hi) continue;
-          ExactSum* p = &sum_[size_t(s.pixel) * 3];
-          p[0].add(s.r), p[1].add(s.g), p[2].add(s.b);
-        }
+        for (const Splat& s : b.splats())
+          if (s.pixel >= lo && s.pixel < hi) ++next[(s.pixel - lo) / kBlock + 1];
+      for (size_t k = 1; k <= blocks; ++k) next[k] += next[k - 1];
+      const size_t n = next[blocks];
+      std::unique_ptr<Splat[]> grouped(new Splat[n]);  // not zeroed: every slot is written below
+      for (const SplatBuffer& b : buffers)
+        for (const Splat& s : b.splats())
+          if (s.pixel >= lo && s.pixel < hi) grouped[next[(s.pixel - lo) / kBlock]++] = s;
+      for (size_t i = 0; i < n; ++i) {
+        const Splat& s = grouped[i];
+        ExactSum* p = &sum_[size_t(s.pixel) * 3];
+        p[0].add(s.r), p[1].add(s.g), p[2].add(s.b);
+      }
     });
     for (const SplatBuffer& b : buffers) nonFinite_ += b.nonFinite();
   }
@@ -87,6 +104,8 @@ class SplatFilm {
       for (size_t i = n * block / blocks, end = n * (block + 1) / blocks; i < end; ++i) fn(i);
     });
   }
+
+  static constexpr size_t kBlock = 256;  // pixels: 30 KB of sums, within a core's L1 or L2
 
   int width_, height_;
   std::vector<ExactSum> sum_;
