@@ -804,9 +804,9 @@ ParamSpec directMerges() {
 }
 
 // bdpt draws from Sobol' points by default: at equal iterations they lowered the error of the
-// best 99% of pixels on every shipped scene measured (cornell-box 0.75×, cornell-spheres 0.85×,
-// SmallVCM's box 0.77× under the point light and 0.94× under the sun; README, "Sampler") for
-// about 1% of an iteration. bpm and vcm keep the random stream: their measured comparisons
+// best 99% of pixels on each of the four shipped scenes measured (cornell-box 0.75×,
+// cornell-spheres 0.85×, SmallVCM's box 0.77× under the point light and 0.94× under the sun;
+// README, "Sampler") for about 1% of an iteration. bpm and vcm keep the random stream: their measured comparisons
 // (README, "Beside SmallVCM") were made with it.
 ParamSpec sampler(const char* defaultValue) {
   return params::sampler(kSamplerSlots, "subpath", "the iterations, per pixel and per light path", defaultValue);
