@@ -803,13 +803,15 @@ ParamSpec directMerges() {
                         "off", {"on", "off"});
 }
 
-// bdpt draws from Sobol' points by default: at equal iterations they lowered the error of the
-// best 99% of pixels on each of the four shipped scenes measured (cornell-box 0.75×,
-// cornell-spheres 0.85×, SmallVCM's box 0.77× under the point light and 0.94× under the sun;
-// README, "Sampler") for about 1% of an iteration. bpm and vcm keep the random stream: their measured comparisons
-// (README, "Beside SmallVCM") were made with it.
-ParamSpec sampler(const char* defaultValue) {
-  return params::sampler(kSamplerSlots, "subpath", "the iterations, per pixel and per light path", defaultValue);
+// All three draw from Sobol' points by default: at equal iterations they lowered the error of
+// the best 99% of pixels on each of the four shipped scenes measured (README, "Sampler"; seeds
+// 11–13, the ratio to the random stream's):
+//   bdpt  cornell-box 0.75, cornell-spheres 0.85, SmallVCM's box 0.77 (point light), 0.94 (sun);
+//   vcm   0.83, 0.88, 0.80, 0.88;
+//   bpm   0.90, 0.92, 0.90, 0.95;
+// for about 1% of an iteration. --sampler independent gives the random stream alone.
+ParamSpec sampler() {
+  return params::sampler(kSamplerSlots, "subpath", "the iterations, per pixel and per light path", "sobol");
 }
 
 ParamSpec strategyAov() {
@@ -826,7 +828,7 @@ ParamSpec onlyStrategy(const char* name, const char* doc) {
 
 const IntegratorRegistration bdpt({
     "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power- or balance-heuristic MIS",
-    {iterations(), params::maxDepth(), heuristic(), sampler("sobol"), strategyAov(),
+    {iterations(), params::maxDepth(), heuristic(), sampler(), strategyAov(),
      onlyStrategy("only_s", "debug: render technique (s, t) alone, unweighted: its light vertices s (with only_t)"),
      onlyStrategy("only_t", "debug: its camera vertices t, the pinhole included (with only_s)")},
     [](const ParamSet& p, const RenderOptions&) {
@@ -843,7 +845,7 @@ const IntegratorRegistration bdpt({
 
 const IntegratorRegistration bpm({
     "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
-    {iterations(), params::maxDepth(), heuristic(), sampler("independent"), mergeRadius("one pixel footprint at the median visible distance"),
+    {iterations(), params::maxDepth(), heuristic(), sampler(), mergeRadius("one pixel footprint at the median visible distance"),
      mergeAlpha()},
     [](const ParamSet& p, const RenderOptions&) {
       BidirectionalOptions o = common(p);
@@ -855,7 +857,7 @@ const IntegratorRegistration bpm({
 
 const IntegratorRegistration vcm({
     "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
-    {iterations(), params::maxDepth(), heuristic(), sampler("independent"),
+    {iterations(), params::maxDepth(), heuristic(), sampler(),
      mergeRadius("three pixel footprints at the median visible distance (one with --direct-merges on)"), mergeAlpha(),
      directMerges()},
     [](const ParamSet& p, const RenderOptions&) {
