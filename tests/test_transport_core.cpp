@@ -50,6 +50,31 @@ TEST_CASE("camera importance: raster() inverts generateRay() - We integrates to 
   CHECK(cs.pdf == Approx(4.0f));  // d²/cosθ = 2²/1
 }
 
+TEST_CASE("camera importance: a ray made on the film's far edge keeps its direction density 1/(A cos³θ)") {
+  // A pixel's jitter x + u with u < 1 rounds to the width in float when u is within an ulp of
+  // 1 (511 + (1 − 2⁻²⁴) is 512.0f): generateRay then makes a ray on the film's far edge, which
+  // pdfWe's film, [0, W) × [0, H), leaves out (density 0: measured for each position below). The
+  // bidirectional camera subpath's first density
+  // (generatedPdfDir) must still be the film's, 1/(A cos³θ) with A the film's area at distance 1
+  // (dω = dA cos³θ at distance 1/cosθ): here compared with pdfWe just inside the edge, where the
+  // density is continuous (2·10⁻³ pixel away: relative change ~10⁻⁶).
+  const int W = 512, H = 512;
+  REQUIRE(float(W - 1) + (1.0f - 0x1p-24f) == float(W));
+  Camera c = lookingDown(2.0f, 0.9f);
+  const float tanHalf = std::tan(0.45f);
+  for (const Vec2& edge : {Vec2(W, 200), Vec2(200, H), Vec2(W, H), Vec2(0, H), Vec2(W, 0)}) {
+    INFO("film position " << edge.x << ", " << edge.y);
+    const Vec3 d = c.generateRay(edge.x, edge.y, W, H).d;
+    const Vec2 inside(std::min(edge.x, W - 0.002f), std::min(edge.y, H - 0.002f));
+    float pos, dir;
+    c.pdfWe(c.generateRay(inside.x, inside.y, W, H).d, W, H, tanHalf, &pos, &dir);
+    REQUIRE(dir > 0);
+    CHECK(c.generatedPdfDir(d, W, H, tanHalf) == Approx(dir).epsilon(1e-4));
+    const float cosTheta = glm::dot(d, c.forward);
+    CHECK(c.generatedPdfDir(d, W, H, tanHalf) == Approx(1.0 / (c.filmArea(W, H) * std::pow(cosTheta, 3))).epsilon(1e-5));
+  }
+}
+
 TEST_CASE("light emission densities: sampleLe's pdfs are pdfLe's - integrate to 1 - and the flux is Le cos/(pdfPos pdfDir)") {
   // The densities bidirectional methods weigh strategies with must be those sampleLe draws
   // from: each light's emitted rays carry pdfs equal to pdfLe() of the same ray, and pdfDir

@@ -266,8 +266,7 @@ class VertexConnectionMerging::Tracer {
     path.ray = cameraRay;
     // z₁'s density, per pixel: W·H · pdf_dir (the camera's is normalised over the image); its
     // ratio to the N light paths that could splat it (eq. 31).
-    float pdfPos, pdfDir;
-    scene_.camera().pdfWe(path.ray.d, it_.width, it_.height, scene_.cameraTanHalf(), &pdfPos, &pdfDir);
+    const float pdfDir = scene_.camera().generatedPdfDir(path.ray.d, it_.width, it_.height, scene_.cameraTanHalf());
     path.dVCM = Mis(it_.lightPaths / (it_.pixels * pdfDir));
     for (path.length = 1;; ++path.length) {
       SurfaceHit hit;

@@ -68,8 +68,16 @@ struct Camera {
   void pdfWe(const Vec3& d, int width, int height, float tanHalf, float* pdfPos, float* pdfDir) const {
     *pdfPos = 1.0f;
     Vec2 r;
+    *pdfDir = raster(d, width, height, tanHalf, &r) ? generatedPdfDir(d, width, height, tanHalf) : 0.0f;
+  }
+  // The direction density 1/(A cos³θ) of a ray generateRay() made, without pdfWe's test that it
+  // meets the film [0, W) × [0, H): a jittered position x + u (u < 1) of the last column or row
+  // can round to W or H in float (at 512 pixels when u is within 2⁻¹⁶ of 1), and the test
+  // leaves that edge out. A density of 0 there turned a bidirectional camera subpath's weights
+  // into NaN (the sample was discarded: 2 in 32 iterations of bpm at 512², seed 1).
+  float generatedPdfDir(const Vec3& d, int width, int height, float tanHalf) const {
     float c = glm::dot(d, forward);
-    *pdfDir = raster(d, width, height, tanHalf, &r) ? 1.0f / (filmArea(width, height, tanHalf) * c * c * c) : 0.0f;
+    return 1.0f / (filmArea(width, height, tanHalf) * c * c * c);
   }
 
   // The connection from scene point p to the pinhole: the pixel it lands in, We, and the
