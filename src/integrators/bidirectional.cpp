@@ -536,7 +536,8 @@ class VertexConnectionMerging::Tracer {
 // ---------------------------------------------------------------------------------------------
 // The loop: iteration i traces N = W·H light subpaths (chunks in parallel, vertices and splats
 // kept per chunk, splats added in chunk order), builds the grid over their vertices (merging), then
-// one camera subpath per pixel. Random streams are keyed by (seed, path or pixel, iteration),
+// one camera subpath per pixel; bdpt, which has no grid, traces each chunk's camera paths right
+// after its light paths. Random streams are keyed by (seed, path or pixel, iteration),
 // so the image is the same whatever the thread count. An iteration the budget cuts short is
 // dropped whole.
 ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
@@ -628,9 +629,11 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       return SampledWavelengths::sample(Rng::keyed(lambdaStream, path, uint64_t(iteration)).uniform());
     };
 
-    // 1. Light subpaths.
+    // 1. Light subpaths, chunk k's: paths (and pixels) [k·chunkSize, (k + 1)·chunkSize). Returns
+    // false when the budget ran out first.
     std::atomic<bool> cut{false};
-    parallelFor(chunks, threads, [&](size_t k, int) {
+    std::vector<uint64_t> chunkNonFinite(chunks, 0);
+    auto lightPaths = [&](size_t k) {
       std::vector<LightVertex>& verts = chunkVertices[k];
       std::vector<uint32_t>& ends = chunkEnds[k];
       verts.clear();
@@ -639,7 +642,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       if (o_.strategies) chunkStrategySplats[k].assign(size_t(strategies), SplatBuffer());
       if (cut || budget.expired()) {
         cut = true;
-        return;
+        return false;
       }
       SplatSink sink{&chunkSplats[k], o_.strategies ? &chunkStrategySplats[k] : nullptr};
       const size_t begin = k * chunkSize, end = std::min(pixels, begin + chunkSize);
@@ -649,8 +652,54 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
         tracer.traceLightPath(sampler, wavelengths(i), &verts, sink);
         ends.push_back(uint32_t(verts.size()));
       }
-    });
-    if (cut) break;
+      return true;
+    };
+
+    // 3 (below). The camera subpath of one pixel: connects to the light path of the same index,
+    // merges through the grid. `perStrategy`: the caller's scratch, one entry per technique.
+    auto cameraPath = [&](size_t pixel, std::vector<Spectrum>& perStrategy, uint64_t& nonFiniteHere) {
+      const int x = int(pixel % size_t(W)), y = int(pixel / size_t(W));
+      CameraPath c = beginCameraPath(scene, rgbImage, x, y, uint64_t(iteration), JitterOrder::XThenY);
+      c.lambda = wavelengths(pixel);
+      std::fill(perStrategy.begin(), perStrategy.end(), Spectrum(0.0f));
+      Sink sink;
+      sink.perStrategy = o_.strategies ? &perStrategy : nullptr;
+      // Light path `pixel`: in chunk pixel / chunkSize, after the vertices of the paths before it there.
+      const std::vector<LightVertex>& chunk = chunkVertices[pixel / chunkSize];
+      const std::vector<uint32_t>& ends = chunkEnds[pixel / chunkSize];
+      const size_t j = pixel % chunkSize;
+      const LightVertex* first = chunk.data() + (j == 0 ? 0 : ends[j - 1]);
+      Sampler sampler(c.rng, o_.sobol, mix64(cameraStream ^ pixel), uint32_t(iteration), kSamplerSlots);
+      jitterFromSampler(scene, x, y, W, H, sampler, &c.ray);
+      tracer.traceCameraPath(sampler, c.ray, c.lambda, first, chunk.data() + ends[j], o_.merge ? &grid : nullptr, sink);
+      auto toRGB = [&](const Spectrum& v) { return o.spectral ? spectralToRGB(v, c.lambda.lambda) : v; };
+      Spectrum rgb = toRGB(sink.total);
+      if (!isFinite(rgb)) {
+        ++nonFiniteHere;
+        rgb = Spectrum(0.0f);
+      }
+      iterationColor[pixel] = rgb;
+      for (int i = 0; i < strategies; ++i) {
+        Spectrum v = toRGB(perStrategy[size_t(i)]);
+        iterationStrategies[size_t(i) * pixels + pixel] = isFinite(v) ? v : Spectrum(0.0f);
+      }
+    };
+
+    if (!o_.merge) {
+      // bdpt: a camera path needs only the light path of its own index, so each chunk traces its
+      // light paths and then its pixels' camera paths, while the light vertices are still in
+      // cache (the same paths, bit for bit, as the two passes below).
+      parallelFor(chunks, threads, [&](size_t k, int) {
+        if (!lightPaths(k)) return;
+        std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
+        for (size_t i = k * chunkSize, end = std::min(pixels, i + chunkSize); i < end; ++i)
+          cameraPath(i, perStrategy, chunkNonFinite[k]);
+      });
+      if (cut) break;
+    } else {
+      parallelFor(chunks, threads, [&](size_t k, int) { lightPaths(k); });
+      if (cut) break;
+    }
 
     // 2. The grid over every stored light vertex.
     if (o_.merge) {
@@ -662,43 +711,19 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       grid.build(mergeVertices, radius);
     }
 
-    // 3. Camera subpaths, one per pixel, rows in parallel.
-    std::vector<uint64_t> rowNonFinite(size_t(H), 0);
-    parallelFor(size_t(H), threads, [&](size_t y, int) {
-      if (cut || budget.expired()) {
-        cut = true;
-        return;
-      }
-      std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
-      for (int x = 0; x < W; ++x) {
-        const size_t pixel = y * size_t(W) + size_t(x);
-        CameraPath c = beginCameraPath(scene, rgbImage, x, int(y), uint64_t(iteration), JitterOrder::XThenY);
-        c.lambda = wavelengths(pixel);
-        std::fill(perStrategy.begin(), perStrategy.end(), Spectrum(0.0f));
-        Sink sink;
-        sink.perStrategy = o_.strategies ? &perStrategy : nullptr;
-        // Light path `pixel`: in chunk pixel / chunkSize, after the vertices of the paths before it there.
-        const std::vector<LightVertex>& chunk = chunkVertices[pixel / chunkSize];
-        const std::vector<uint32_t>& ends = chunkEnds[pixel / chunkSize];
-        const size_t j = pixel % chunkSize;
-        const LightVertex* first = chunk.data() + (j == 0 ? 0 : ends[j - 1]);
-        Sampler sampler(c.rng, o_.sobol, mix64(cameraStream ^ pixel), uint32_t(iteration), kSamplerSlots);
-        jitterFromSampler(scene, x, int(y), W, H, sampler, &c.ray);
-        tracer.traceCameraPath(sampler, c.ray, c.lambda, first, chunk.data() + ends[j], o_.merge ? &grid : nullptr, sink);
-        auto toRGB = [&](const Spectrum& v) { return o.spectral ? spectralToRGB(v, c.lambda.lambda) : v; };
-        Spectrum rgb = toRGB(sink.total);
-        if (!isFinite(rgb)) {
-          ++rowNonFinite[y];
-          rgb = Spectrum(0.0f);
+    // 3. Camera subpaths, one per pixel, rows in parallel (bdpt traced them above).
+    std::vector<uint64_t> rowNonFinite(o_.merge ? size_t(H) : 0, 0);
+    if (o_.merge) {
+      parallelFor(size_t(H), threads, [&](size_t y, int) {
+        if (cut || budget.expired()) {
+          cut = true;
+          return;
         }
-        iterationColor[pixel] = rgb;
-        for (int i = 0; i < strategies; ++i) {
-          Spectrum v = toRGB(perStrategy[size_t(i)]);
-          iterationStrategies[size_t(i) * pixels + pixel] = isFinite(v) ? v : Spectrum(0.0f);
-        }
-      }
-    });
-    if (cut) break;
+        std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
+        for (size_t i = y * size_t(W), end = i + size_t(W); i < end; ++i) cameraPath(i, perStrategy, rowNonFinite[y]);
+      });
+      if (cut) break;
+    }
 
     // The iteration is complete: into the exact sums, in parallel (exact, so bit for bit the
     // serial order's), the light-side splats straight into the total.
@@ -707,6 +732,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
         for (int ch = 0; ch < 3; ++ch) cameraSum[i * 3 + size_t(ch)].add(iterationColor[i][ch]);
     });
     for (uint64_t n : rowNonFinite) nonFinite += n;
+    for (uint64_t n : chunkNonFinite) nonFinite += n;
     splatTotal.add(chunkSplats, threads);
     for (int s = 0; s < strategies; ++s) {
       for (size_t i = 0; i < pixels; ++i)
