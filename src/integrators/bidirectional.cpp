@@ -685,21 +685,16 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       }
     };
 
-    if (!o_.merge) {
-      // bdpt: a camera path needs only the light path of its own index, so each chunk traces its
-      // light paths and then its pixels' camera paths, while the light vertices are still in
-      // cache (the same paths, bit for bit, as the two passes below).
-      parallelFor(chunks, threads, [&](size_t k, int) {
-        if (!lightPaths(k)) return;
-        std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
-        for (size_t i = k * chunkSize, end = std::min(pixels, i + chunkSize); i < end; ++i)
-          cameraPath(i, perStrategy, chunkNonFinite[k]);
-      });
-      if (cut) break;
-    } else {
-      parallelFor(chunks, threads, [&](size_t k, int) { lightPaths(k); });
-      if (cut) break;
-    }
+    // bdpt: a camera path needs only the light path of its own index, so each chunk traces its
+    // light paths and then its pixels' camera paths, while the light vertices are still in
+    // cache (the same paths, bit for bit, as the two passes of vcm and bpm).
+    parallelFor(chunks, threads, [&](size_t k, int) {
+      if (!lightPaths(k) || o_.merge) return;
+      std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
+      for (size_t i = k * chunkSize, end = std::min(pixels, i + chunkSize); i < end; ++i)
+        cameraPath(i, perStrategy, chunkNonFinite[k]);
+    });
+    if (cut) break;
 
     // 2. The grid over every stored light vertex.
     if (o_.merge) {
