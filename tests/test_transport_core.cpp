@@ -51,10 +51,10 @@ TEST_CASE("camera importance: raster() inverts generateRay() - We integrates to 
 }
 
 TEST_CASE("camera importance: a ray made on the film's far edge keeps its direction density 1/(A cos³θ)") {
-  // A pixel's jitter x + u with u < 1 rounds to the width in float when u is within half of
-  // float's spacing there of 1 (2⁻¹⁶ at 511: 511 + (1 − 2⁻²⁴) is 512.0f): generateRay then makes a ray on the film's far edge, which
-  // pdfWe's film, [0, W) × [0, H), leaves out (density 0: measured for each position below). The
-  // bidirectional camera subpath's first density
+  // A pixel's jitter x + u with u < 1 rounds to the width in float when 1 − u is at most half
+  // the float spacing at x (2⁻¹⁶ at x = 511: 511 + (1 − 2⁻²⁴) is 512.0f): generateRay then makes
+  // a ray on the film's far edge, which pdfWe's film, [0, W) × [0, H), leaves out (density 0:
+  // measured for each position below). The bidirectional camera subpath's first density
   // (generatedPdfDir) must still be the film's, 1/(A cos³θ) with A the film's area at distance 1
   // (dω = dA cos³θ at distance 1/cosθ): here compared with pdfWe just inside the edge, where the
   // density is continuous (2·10⁻³ pixel away: relative change ~10⁻⁶).

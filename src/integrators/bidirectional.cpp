@@ -685,9 +685,10 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       }
     };
 
-    // bdpt: a camera path needs only the light path of its own index, so each chunk traces its
-    // light paths and then its pixels' camera paths, while the light vertices are still in
-    // cache (the same paths, bit for bit, as the two passes of vcm and bpm).
+    // 1 and, for bdpt, 3: the chunks' light paths in parallel. A bdpt camera path needs only the
+    // light path of its own index, so there each chunk goes on to its pixels' camera paths while
+    // its light vertices are still in cache (bit for bit what a separate pass would give); vcm
+    // and bpm must build the grid over every chunk's vertices first (2, then 3).
     parallelFor(chunks, threads, [&](size_t k, int) {
       if (!lightPaths(k) || o_.merge) return;
       std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
