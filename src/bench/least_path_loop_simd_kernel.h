@@ -35,9 +35,14 @@ PL_HOT_INLINE void bounce(Lanes& P, int live, const LeastPathScene& least, const
   alignas(64) int32_t valid[kLanes];
   for (int k = 0; k < kLanes; ++k) valid[k] = k < live ? -1 : 0;
   alignas(64) RTCRayHit16 rh;
-  store(rh.ray.org_x, load(P.ox)), store(rh.ray.org_y, load(P.oy)), store(rh.ray.org_z, load(P.oz));
-  store(rh.ray.dir_x, load(P.dx)), store(rh.ray.dir_y, load(P.dy)), store(rh.ray.dir_z, load(P.dz));
-  store(rh.ray.tnear, Floats{}), store(rh.ray.tfar, splat(INFINITY)), store(rh.ray.time, Floats{});
+  // Lanes past `live` hold finished paths' stale values: they get a finite ray with tfar < tnear
+  // (see the shadow rays below for why the valid mask alone does not do).
+  const Ints on = load(valid) != 0;
+  store(rh.ray.org_x, on ? load(P.ox) : Floats{}), store(rh.ray.org_y, on ? load(P.oy) : Floats{});
+  store(rh.ray.org_z, on ? load(P.oz) : Floats{});
+  store(rh.ray.dir_x, on ? load(P.dx) : Floats{}), store(rh.ray.dir_y, on ? load(P.dy) : Floats{});
+  store(rh.ray.dir_z, on ? load(P.dz) : splat(1.0f));
+  store(rh.ray.tnear, Floats{}), store(rh.ray.tfar, on ? splat(INFINITY) : splat(-INFINITY)), store(rh.ray.time, Floats{});
   for (int k = 0; k < kLanes; ++k)
     rh.ray.mask[k] = 0xFFFFFFFFu, rh.ray.id[k] = 0, rh.ray.flags[k] = 0, rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect16(valid, least.rtc, context, &rh);
@@ -105,9 +110,14 @@ PL_HOT_INLINE void bounce(Lanes& P, int live, const LeastPathScene& least, const
   const Floats ox = px + eps * sx, oy = py + eps * sy, oz = pz + eps * sz;
   const Floats sdx = tx - ox, sdy = ty - oy, sdz = tz - oz;
   const Floats length = sqrt(sdx * sdx + sdy * sdy + sdz * sdz), invLength = 1.0f / length;
-  store(shadow.org_x, ox), store(shadow.org_y, oy), store(shadow.org_z, oz);
-  store(shadow.dir_x, sdx * invLength), store(shadow.dir_y, sdy * invLength), store(shadow.dir_z, sdz * invLength);
-  store(shadow.tnear, Floats{}), store(shadow.tfar, length - eps), store(shadow.time, Floats{});
+  // Lanes without a shadow ray get a finite ray with tfar < tnear: Embree's packet-splitting
+  // path on CPUs without AVX-512 checks every lane it deems active (tnear ≤ tfar) for finite
+  // values, whatever the valid mask says, and a missed path's lane holds an infinite origin.
+  const Ints casts = shadowed != 0;
+  store(shadow.org_x, casts ? ox : Floats{}), store(shadow.org_y, casts ? oy : Floats{}), store(shadow.org_z, casts ? oz : Floats{});
+  store(shadow.dir_x, casts ? sdx * invLength : Floats{}), store(shadow.dir_y, casts ? sdy * invLength : Floats{});
+  store(shadow.dir_z, casts ? sdz * invLength : splat(1.0f));
+  store(shadow.tnear, Floats{}), store(shadow.tfar, casts ? length - eps : splat(-INFINITY)), store(shadow.time, Floats{});
   for (int k = 0; k < kLanes; ++k) shadow.mask[k] = 0xFFFFFFFFu, shadow.id[k] = 0, shadow.flags[k] = 0;
   alignas(64) int32_t shadowValid[kLanes];
   store(shadowValid, shadowed);
