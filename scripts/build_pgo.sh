@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A profile-guided build of photonlab (GCC): compile it instrumented, train it on the renders
 # below, compile it again with their profile. Same images as the plain build, bit for bit; 0-10%
-# faster (README, "Performance"). Installs what is missing first, as setup.sh does.
+# faster (docs: explanation/performance.md). Installs what is missing first, as setup.sh does.
 #   scripts/build_pgo.sh [BUILD_DIR]    (default build-pgo; BUILD_DIR/photonlab is the result)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Long renders and experiment sweeps on a Dask cluster (README, "Beyond one machine").
+"""Long renders and experiment sweeps on a Dask cluster (docs: how-to/cluster.md).
 
     scripts/cluster.py render SCENE -o OUT.exr --chunks N [cluster options] -- [photonlab render options]
     scripts/cluster.py run EXPERIMENT.toml [--out DIR] [cluster options]
@@ -320,7 +320,7 @@ def main(argv=None):
     r.add_argument("--workdir", help="where slices go (shared; default: beside the output)")
     r.add_argument("--keep-slices", action="store_true")
     cluster_options(r)
-    b = sub.add_parser("bench", help="1 vs 2 local workers, per-task overhead, modelled speed-up (README)")
+    b = sub.add_parser("bench", help="1 vs 2 local workers, per-task overhead, modelled speed-up (docs: how-to/cluster.md)")
     b.add_argument("--scene", default=os.path.join(ROOT, "scenes", "cornell-box.gltf"))
     b.add_argument("--passes", type=int, default=64)
     b.add_argument("--photons-per-pass", type=int, default=200000)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Are two photonlab builds' images bit-identical? Renders every shipped scene with every
 # integrator both builds know, at 40 pixels wide, and compares them pixel for pixel
-# (`photonlab compare` gives rmse 0 only for identical images). For refactors: README, "Layout".
+# (`photonlab compare` gives rmse 0 only for identical images). For refactors: docs/pages/explanation/architecture.md.
 #   scripts/compare_builds.sh OLD_BINARY NEW_BINARY [extra render options, e.g. --spectral]
 set -euo pipefail
 if [ $# -lt 2 ]; then echo "usage: $0 OLD NEW [render options]" >&2; exit 2; fi

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Renders Khronos glTF sample models as shipped: README's gallery.
+"""Renders Khronos glTF sample models as shipped: the documentation's gallery (docs/pages/results/gallery.md).
 
 Each model is taken from --source, a folder laid out as Khronos' glTF-Sample-Assets repository's
 Models/ (Models/NAME/glTF-Binary/NAME.glb, or Models/NAME/glTF/NAME.gltf with its files), or a URL
@@ -9,8 +9,8 @@ path traced with no option beyond its size and time (its own camera or the autom
 own lights or the default sky), except where the table says; the warnings photonlab printed are
 counted in the table.
 
-    /usr/bin/python3 scripts/gallery.py --source ~/glTF-Sample-Assets/Models --out docs/gallery
-    /usr/bin/python3 scripts/gallery.py --out docs/gallery          # downloads the models first
+    /usr/bin/python3 scripts/gallery.py --source ~/glTF-Sample-Assets/Models --out docs/pages/images/gallery
+    /usr/bin/python3 scripts/gallery.py --out docs/pages/images/gallery          # downloads the models first
 """
 import argparse
 import json

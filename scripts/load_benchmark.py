@@ -2,7 +2,7 @@
 """How fast large glTF files load, and the memory the load takes, against the file's geometry.
 
 Writes three binary glTF files into a scratch folder (nothing is committed or downloaded) and
-runs `photonlab bench --load` on each, printing one Markdown table (README, Scenes: "Large
+runs `photonlab bench --load` on each, printing one Markdown table (docs: reference/gltf.md, "Large
 files"):
   grid        a 1415 x 1415 height field: 4.0 M triangles, POSITION and uint32 indices only
               (72 MB of geometry: the file of issue 16)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generates the shipped glTF 2.0 scenes in scenes/ (stdlib only; buffers as data URIs).
 
-Units are radiometric and raw (see README): emissiveFactor x KHR_materials_emissive_strength
+Units are radiometric and raw (see docs/pages/reference/gltf.md): emissiveFactor x KHR_materials_emissive_strength
 is radiance in W/(m^2 sr); a punctual light's intensity x color is W/sr.
 
     python3 scripts/make_scenes.py            # rewrites scenes/*.gltf
@@ -17,7 +17,7 @@ import sys
 class Gltf:
     def __init__(self):
         self.blob = bytearray()
-        # Light values in W/sr, W/m², W/(m²·sr) as written (README, Scenes: units).
+        # Light values in W/sr, W/m², W/(m²·sr) as written (docs: reference/gltf.md, Units).
         self.doc = {"asset": {"version": "2.0", "generator": "photonlab scripts/make_scenes.py",
                               "extras": {"photonlab": {"units": "radiometric"}}},
                     "scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [],

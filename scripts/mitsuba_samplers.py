@@ -7,7 +7,7 @@ converts it: same meshes, normals, camera, box filter, NEE with MIS, max_depth =
 all at --spp samples per pixel and for each seed, and prints every image's relMSE against one
 reference: --reference, or a photonlab path-traced render of --reference-spp samples per pixel
 (seed 1000, independent of the runs'). At equal samples the two path tracers' estimators are the
-same (README, the variance study), so what differs between rows is the samplers.
+same (docs: results/mitsuba.md, the variance study), so what differs between rows is the samplers.
 
 Needs Mitsuba 3 and numpy in the interpreter that runs it, and DRJIT_LIBLLVM_PATH at a libLLVM ≥ 16:
 

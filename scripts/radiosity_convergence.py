@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Radiosity's error against the path tracer as the patches get smaller (README, Classic
+"""Radiosity's error against the path tracer as the patches get smaller (docs: results/radiosity.md, Classic
 radiosity): renders SCENE with `--integrator radiosity` at each patch budget, in smooth display
 (the solution alone) and with the final gather, and compares each with a long path-traced
 reference: relMSE over the image, and the worst and mean error over 4×4 regions (relative to

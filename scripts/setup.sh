@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent set-up: installs what is missing (Debian 12 packages, including Python with numpy,
-# matplotlib, OpenImageIO's bindings and pytest for scripts/, and Chromium for the report test),
+# matplotlib, OpenImageIO's bindings and pytest for scripts/, Chromium for the browser tests, and
+# MkDocs with the Material theme for the documentation site),
 # configures and builds into build/.
 # Usage: scripts/setup.sh [--no-build]
 set -euo pipefail
@@ -13,7 +14,7 @@ apt_packages=(
   libopenimageio-dev libtinygltf-dev nlohmann-json3-dev
   catch2 libtomlplusplus-dev libcli11-dev
   python3 python3-numpy python3-matplotlib python3-openimageio python3-pytest python3-distributed
-  chromium
+  chromium mkdocs mkdocs-material
 )
 
 missing=()

@@ -3,7 +3,10 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <set>
 
+#include "experiment/experiment.h"
+#include "integrators/registry.h"
 #include "io/image_io.h"
 
 using namespace pl;
@@ -74,4 +77,36 @@ TEST_CASE("PNG exposure and tone curves - EXR untouched - the PNG records how it
   CHECK(isDisplayReferred((dir / "a.png").string()));
   CHECK_FALSE(isDisplayReferred((dir / "a.exr").string()));
   fs::remove_all(dir);
+}
+
+TEST_CASE("image metadata: every key a render writes is documented (photonlab reference metadata)") {
+  // Every integrator, with every optional field of the run set, so that every branch of
+  // runMetadata() writes its key; each must be a declared parameter or in metadataKeys().
+  std::set<std::string> documented;
+  for (const pl::MetadataKey& k : pl::metadataKeys()) {
+    CHECK(!k.doc.empty());
+    CHECK(documented.insert(k.key).second);  // listed once
+  }
+  for (const pl::IntegratorEntry* e : pl::integrators()) {
+    pl::RunSettings s = pl::RunSettings::of(e->name);
+    s.image.width = s.image.height = 8;
+    s.image.camera = 0;
+    s.image.environment.enabled = true;
+    s.image.units = "radiometric";
+    s.image.spectral = true;
+    s.image.timeLimit = 2;
+    s.image.nanAov = true;
+    pl::CheckpointInfo info;
+    info.spp = info.passes = 3;
+    info.meanWork = 3.5;
+    info.photons = 100;
+    info.meanRadius = 0.01;
+    info.timeUp = info.interrupted = true;
+    for (auto& [key, value] : pl::runMetadata(s, info, "scene.gltf")) {
+      INFO(e->name << ": metadata key " << key);
+      bool parameter = false;
+      for (const pl::ParamSpec& p : e->params) parameter = parameter || p.metaKey() == key;
+      CHECK((parameter || documented.count(key)));
+    }
+  }
 }

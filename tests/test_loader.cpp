@@ -851,7 +851,7 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   CHECK(count("extensionsUsed: KHR_materials_variants is not implemented: ignored") == 1);
   CHECK(count("KHR_lights_punctual") == 0);
   // The loader's own approximations are said the same way: once for the four materials. Thin-
-  // walled transmission itself is rendered (README, Scenes), so nothing else is said of it.
+  // walled transmission itself is rendered (docs: reference/gltf.md), so nothing else is said of it.
   CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_ior on a rough thin-walled surface is ignored") == 1);
   CHECK(count("KHR_materials_transmission") == 0);
   // A core feature not read: the occlusion texture, once per feature.

@@ -1,8 +1,9 @@
 // The integrator registry: one declaration per parameter drives the CLI, TOML, fingerprint,
-// metadata and README. These tests hold the derived places to the declarations.
+// metadata and the documentation. These tests hold the derived places to the declarations.
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "experiment/config.h"
@@ -96,19 +97,56 @@ TEST_CASE("registry: a value out of range gets the same words from the CLI parse
   CHECK_THROWS_WITH(photon.setText("photons", "4294967296"), Contains("must be from 0 to 4294967295"));
 }
 
-TEST_CASE("registry: README's parameter tables are the registry's (photonlab integrators --markdown)") {
-  std::ifstream in(std::string(PHOTONLAB_SOURCE_DIR) + "/README.md");
+TEST_CASE("registry: the documentation's parameter tables are the registry's (photonlab integrators --markdown)") {
+  std::ifstream in(std::string(PHOTONLAB_SOURCE_DIR) + "/docs/pages/reference/integrators.md");
+  REQUIRE(in);
   std::stringstream ss;
   ss << in.rdbuf();
-  const std::string readme = ss.str();
-  const std::string begin = "<!-- integrators:begin -->\n", end = "<!-- integrators:end -->";
-  size_t b = readme.find(begin), e = readme.find(end);
-  REQUIRE(b != std::string::npos);
-  REQUIRE(e != std::string::npos);
-  INFO("regenerate with: python3 scripts/readme_numbers.py --integrators");
-  auto trimmed = [](std::string t) {
-    while (!t.empty() && t.back() == '\n') t.pop_back();
-    return t;
-  };
-  CHECK(trimmed(readme.substr(b + begin.size(), e - b - begin.size())) == trimmed(integratorsMarkdown()));
+  INFO("regenerate with: python3 scripts/docs_reference.py");
+  CHECK(ss.str().find(integratorsMarkdown()) != std::string::npos);
+}
+
+TEST_CASE("experiment keys: every documented key is one the parser accepts") {
+  // One config holding every key experimentKeys() lists (the reference by integrator; its
+  // `file` form is the one key that excludes the others, checked on its own below).
+  const std::string scene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
+  std::map<std::string, std::string> value = {
+      {"name", "\"x\""}, {"description", "\"d\""}, {"scene", "\"" + scene + "\""}, {"units", "\"radiometric\""},
+      {"env", "0.5"}, {"env_rotate", "10"}, {"env_scale", "2"}, {"width", "16"}, {"height", "16"}, {"threads", "1"},
+      {"inset", "[0, 0, 4, 4]"}, {"exposure", "1"}, {"tonemap", "\"aces\""}, {"baseline", "\"r\""},
+      {"target_relmse", "0.1"}};
+  std::string top, reference = "[reference]\n", run = "[[run]]\n";
+  for (const ConfigKey& k : experimentKeys()) {
+    if (k.table.empty()) {
+      if (k.key == "seeds" || k.key == "reference" || k.key == "run") continue;  // seed stands for both; tables below
+      if (k.key == "seed") top += "seed = 3\n";
+      else if (k.key == "provenance") continue;
+      else {
+        INFO(k.key);
+        REQUIRE(value.count(k.key));
+        top += k.key + " = " + value[k.key] + "\n";
+      }
+    } else if (k.table == "reference") {
+      if (k.key == "integrator") reference += "integrator = \"path\"\n";
+      else if (k.key == "seed") reference += "seed = 7\n";
+      else CHECK(k.key == "file");
+    } else if (k.table == "run") {
+      if (k.key == "integrator") run += "integrator = \"path\"\n";
+      else if (k.key == "label") run += "label = \"r\"\n";
+      else if (k.key == "seed") run += "seed = 4\n";
+      else if (k.key == "seeds") continue;  // either seed or seeds in one run
+      else if (k.key == "time") run += "time = 1\n";
+      else if (k.key == "spectral") run += "spectral = true\n";
+      else FAIL("undocumented handling for run key " + k.key);
+    }
+  }
+  const std::string text = top + "[provenance]\nnote = \"n\"\n" + reference + run;
+  INFO(text);
+  ExperimentConfig c = parseExperiment(text, "all-keys.toml");
+  CHECK(c.runs.size() == 1);
+  CHECK(c.runs[0].seeds == std::vector<uint64_t>{4});
+  CHECK(int64_t(c.reference.settings.image.seed) == 7);
+  // And a key the list does not hold is refused, the message listing the documented ones.
+  CHECK_THROWS_WITH(parseExperiment(top + "colour = 1\n" + reference + run, "x.toml"),
+                    Contains("colour: unknown key (known: name, description, scene, units"));
 }

@@ -4,6 +4,7 @@ index.html that must show the images and the plots."""
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -287,24 +288,34 @@ def test_end_to_end_photonlab_run_then_report(tmp_path):
     assert "64 spp" in page and "rendered in" in page
 
 
-def test_readme_numbers_fill_marked_blocks_only(tmp_path):
-    import readme_numbers
+def test_results_pages_fill_marked_blocks_only(tmp_path):
+    import results_pages
     d = synthetic_results(tmp_path)
     write_exr(os.path.join(d, "reference.exr"), RED)
-    readme = tmp_path / "README.md"
-    readme.write_text("intro\n<!-- experiment:synthetic:begin -->\nold numbers\n<!-- experiment:synthetic:end -->\ntail\n")
-    assert readme_numbers.main(["--readme", str(readme), "--experiment", d]) == 0
-    text = readme.read_text()
+    docs = tmp_path / "pages"
+    (docs / "results").mkdir(parents=True)
+    page = docs / "results" / "x.md"
+    page.write_text("intro\n<!-- experiment:synthetic:begin -->\nold numbers\n<!-- experiment:synthetic:end -->\ntail\n")
+    untouched = docs / "other.md"
+    untouched.write_text("nothing marked\n")
+    assert results_pages.main(["--docs", str(docs), "--experiment", d]) == 0
+    text = page.read_text()
     assert text.startswith("intro\n") and text.endswith("tail\n") and "old numbers" not in text
     assert "| A, path | 2 |" in text and "| B | 1 |" in text
-    assert "readme_numbers.py --experiment" in text  # the block says how it was made
-    # Idempotent, and a missing block is an error that leaves the file alone.
-    assert readme_numbers.main(["--readme", str(readme), "--experiment", d]) == 0
-    assert readme.read_text() == text
-    other = tmp_path / "OTHER.md"
-    other.write_text("nothing marked\n")
-    assert readme_numbers.main(["--readme", str(other), "--experiment", d]) == 2
-    assert other.read_text() == "nothing marked\n"
+    assert "results_pages.py --experiment" in text  # the block says how it was made
+    assert not re.search(r"\b[0-9a-f]{12}\b", text)  # and names no commit
+    assert untouched.read_text() == "nothing marked\n"
+    # Idempotent, and a block no page has is an error that leaves every page alone.
+    assert results_pages.main(["--docs", str(docs), "--experiment", d]) == 0
+    assert page.read_text() == text
+    table = tmp_path / "table.md"
+    table.write_text("| a | b |\n|---|---|\n| 1 | 2 |\n")
+    assert results_pages.main(["--docs", str(docs), "--table", "smallvcm", str(table)]) == 2
+    assert page.read_text() == text
+    # A table printed by a comparison script goes into its own block.
+    page.write_text(text + "<!-- smallvcm:begin -->\nold\n<!-- smallvcm:end -->\n")
+    assert results_pages.main(["--docs", str(docs), "--table", "smallvcm", str(table)]) == 0
+    assert "| 1 | 2 |" in page.read_text() and "\nold\n" not in page.read_text()
 
 
 def test_strategy_grid_lays_techniques_out_by_depth_and_says_when_there_are_none(tmp_path):

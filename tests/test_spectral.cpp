@@ -60,7 +60,7 @@ TEST_CASE("spectral: the RGB uplift returns the same RGB over the whole gamut - 
         worst = std::max(worst, std::max(e.x, std::max(e.y, e.z)));
       }
   INFO("worst round-trip error " << worst);
-  CHECK(worst < 1e-4f);  // the stated tolerance (README)
+  CHECK(worst < 1e-4f);  // the stated tolerance (docs: how-to/spectral.md)
   CHECK(lo >= 0.0f);
   CHECK(hi <= 1.0f);
   // Greys are flat spectra.

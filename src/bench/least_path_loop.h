@@ -10,7 +10,7 @@
 // area lights.
 //
 // Its rate is the ceiling for a one-path-at-a-time scalar path tracer on the scene, and the
-// path tracer's rate over it is what photonlab's generality costs (README, Performance;
+// path tracer's rate over it is what photonlab's generality costs (docs: explanation/performance.md;
 // issue 20 compares the path tracer with Mitsuba 3's, whose rate this loop's is close to).
 #pragma once
 #include <cstdint>

@@ -12,7 +12,7 @@
 //
 // Every path draws from the scalar loop's stream, Rng::keyed(seed, pixel, sample), in the
 // scalar loop's order, and Embree's packet queries return the one-ray queries' hits bit for bit
-// (docs/performance.md). So the two loops compute the same paths with the same random numbers;
+// (docs/pages/explanation/performance.md). So the two loops compute the same paths with the same random numbers;
 // they differ only by the rounding of a few operations (1/√ once instead of a division per
 // component), which can flip a rare comparison. The test compares them pixel by pixel.
 //

@@ -400,7 +400,7 @@ int runBench(const std::string& scenePath, const std::string& glassScenePath, in
   std::printf("| k=50 gathers, random order (k/s) | %.1f | %.1f |\n", g1.randomOrder / 1e3, gN.randomOrder / 1e3);
   std::printf("| memory per photon, map + tree (bytes) | %.1f | |\n", double(maps.global.memoryBytes()) / maps.global.size());
 
-  // The mirror-and-glass Cornell box, where the path tracer is compared with Mitsuba 3's (README,
+  // The mirror-and-glass Cornell box, where the path tracer is compared with Mitsuba 3's (docs: results/mitsuba.md,
   // Performance): its rates, and the error its image has after 10 s on every thread.
   {
     auto glass = loadGltf(glassScenePath);

@@ -18,6 +18,7 @@
 #include "core/interrupt.h"
 #include "experiment/experiment.h"
 #include "io/image_io.h"
+#include "cli/reference_pages.h"
 #include "io/metrics.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -414,7 +415,7 @@ int main(int argc, char** argv) {
   // Keep freed memory in the heap for the next allocation instead of handing it back to the
   // kernel: every photon-tracing pass writes tens of MB of photon buffers, and fresh pages
   // fault in (zeroed by the kernel) on first touch, which cost 2–3% of photon tracing on two
-  // threads (README, Performance). Blocks above 32 MB (large maps, films) are still mmapped.
+  // threads (docs: Performance). Blocks above 32 MB (large maps, films) are still mmapped.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
@@ -499,9 +500,9 @@ int main(int argc, char** argv) {
   render->add_flag("--checkpoints", checkpoints,
                    "Integrators counted in passes: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
 
-  auto* integratorsCmd = app.add_subcommand("integrators", "The integrators and their parameters (--markdown: README's tables)");
+  auto* integratorsCmd = app.add_subcommand("integrators", "The integrators and their parameters (--markdown: as tables)");
   bool markdown = false;
-  integratorsCmd->add_flag("--markdown", markdown, "Markdown tables, as README's \"Integrators and their parameters\"");
+  integratorsCmd->add_flag("--markdown", markdown, "Markdown tables, as the documentation's Integrators reference");
 
   auto* info = app.add_subcommand("info", "Triangles, bounds, cameras, materials, lights with their power (W); "
                                           "or an image's metadata as JSON");
@@ -541,13 +542,13 @@ int main(int argc, char** argv) {
                   "RUN:SEED: that run and seed alone, its metrics rows in its own folder (for many processes at once, "
                   "scripts/cluster.py); a plain run afterwards collects them into metrics.csv");
 
-  auto* bench = app.add_subcommand("bench", "Embree ray rate and path-tracer throughput (README, Performance)");
+  auto* bench = app.add_subcommand("bench", "Embree ray rate and path-tracer throughput (documentation: Performance)");
   std::string benchScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf";
   int benchThreads = 0, benchSpp = 8;
   bench->add_option("--scene", benchScene)->capture_default_str();
   std::string benchGlassScene = std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf";
   bench->add_option("--glass-scene", benchGlassScene,
-                    "The mirror-and-glass Cornell box: path-tracer rates and the relMSE after 10 s (README, Performance)")
+                    "The mirror-and-glass Cornell box: path-tracer rates and the relMSE after 10 s")
       ->capture_default_str();
   bench->add_option("--threads", benchThreads, "Threads for the multi-threaded column (0 = all cores)");
   bench->add_option("--spp", benchSpp, "Path-tracer samples per pixel at 256x256")->capture_default_str();
@@ -562,6 +563,15 @@ int main(int argc, char** argv) {
   const std::string bvhHelp = "Embree's BVH: fast, compact (triangles paired into quads: less than half its memory), or auto (compact "
                               "from 2^20 stored triangles on)";
   for (CLI::App* cmd : {render, info, bench}) cmd->add_option("--bvh", bvhText, bvhHelp)->check(CLI::IsMember({"auto", "fast", "compact"}));
+
+  auto* referenceCmd = app.add_subcommand("reference", "Print a page of the documentation's reference, generated from the code "
+                                                       "(Markdown: docs/pages/reference/PAGE.md is this output)");
+  std::string referenceName;
+  referenceCmd->add_option("page", referenceName, "cli | integrators | experiment | metadata")
+      ->required()
+      ->check(CLI::IsMember(referencePageNames()));
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->footer(helpFooter(sub->get_name()));
+  app.footer(helpFooter(""));
 
   try {
     app.parse(argc, argv);
@@ -692,6 +702,10 @@ int main(int argc, char** argv) {
     if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
     if (*bench && !benchLoad.empty()) return runLoadBench(benchLoad, benchRepeats, bvhLayout);
     if (*bench) return runBench(benchScene, benchGlassScene, benchThreads, benchSpp);
+    if (*referenceCmd) {
+      std::printf("%s", referencePage(referenceName, app).c_str());
+      return 0;
+    }
     if (*integratorsCmd) {
       if (markdown) {
         std::printf("%s", integratorsMarkdown().c_str());

@@ -46,7 +46,7 @@ inline bool isFinite(const Vec3& v) { return (v.x - v.x) + (v.y - v.y) + (v.z - 
 // random numbers (which quarter turn, which half of the square, which face); GCC compiles a
 // float `?:` to a branch, and such a branch mispredicts half the time, ~20 cycles each.
 // Valgrind's branch simulator counted 11 mispredictions per photon path in our code before
-// these were used there (README, "Performance").
+// these were used there (docs: explanation/performance.md).
 inline float select(bool c, float a, float b) {
   uint32_t ua, ub, mask = 0u - uint32_t(c);
   std::memcpy(&ua, &a, 4);

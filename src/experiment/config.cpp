@@ -28,6 +28,41 @@ std::string RunSettings::budgetUnit() const {
   return b ? b->name : "spp";
 }
 
+const std::vector<ConfigKey>& experimentKeys() {
+  static const std::vector<ConfigKey> keys = {
+      {"", "name", "string", "The results folder's name, `results/<name>/` (letters, digits, `-`, `_`, `.`). Required."},
+      {"", "description", "string", "One line shown in the report."},
+      {"", "scene", "string", "The glTF file (`.gltf` or `.glb`), relative to the config. Required."},
+      {"", "units", "string", "How the file's light values are read: `radiometric` or `photometric`, as `--units` (default: what the file says)."},
+      {"", "env", "number, [r, g, b] or string", "A sky for every run and the reference, as `--env`: a radiance, or a map file relative to the config."},
+      {"", "env_rotate", "number", "Degrees the `env` map turns about +Y, as `--env-rotate` (needs `env`)."},
+      {"", "env_scale", "number", "Factor on the `env` radiance, as `--env-scale` (needs `env`)."},
+      {"", "width", "integer", "Image width in pixels, 1 to 16384 (default 512, or from `height` and the camera's aspect)."},
+      {"", "height", "integer", "Image height in pixels, 1 to 16384 (default: from the camera's aspect ratio)."},
+      {"", "seed", "integer", "The one seed every run renders with (default 1); or `seeds`."},
+      {"", "seeds", "array of integers", "Every run renders once per seed (at most 1000, distinct); or `seed`."},
+      {"", "threads", "integer", "Worker threads, 0 = all cores (default 0); `photonlab run --threads` overrides it."},
+      {"", "inset", "[x, y, width, height]", "The zoomed region of the report's comparison figure, in pixels."},
+      {"", "exposure", "number", "Exposure in EV of the PNGs and figures, -64 to 64 (default 0); EXR stays linear."},
+      {"", "tonemap", "string", "Tone curve of the PNGs and figures: `clamp` (default) or `aces`."},
+      {"", "baseline", "string", "The run (its label) the report's speed-ups are relative to (default: the first run)."},
+      {"", "target_relmse", "number", "The report's \"time to reach\" target (default: the baseline's final relMSE)."},
+      {"", "reference", "table", "`[reference]`: how the reference is made (keys below). Required."},
+      {"", "run", "array of tables", "`[[run]]`: one table per way of rendering the scene (keys below). At least one."},
+      {"", "provenance", "table", "Written by `photonlab run` into the results' `experiment.toml` (revision, machine); ignored on input."},
+      {"reference", "file", "string", "An existing image to use as the reference, relative to the config; then no other key."},
+      {"reference", "integrator", "string", "The integrator that renders the reference (with its parameters, `time` and `spectral`, as a run)."},
+      {"reference", "seed", "integer", "The reference's seed (default -1, a stream no run can reach; must not be a run's seed)."},
+      {"run", "integrator", "string", "The integrator. Required. Its parameters are keys of the run too (Integrators reference)."},
+      {"run", "label", "string", "The run's name in tables and plots, unique (default `<integrator> <n>`)."},
+      {"run", "seed", "integer", "This run's one seed, overriding the top level's `seed`/`seeds`."},
+      {"run", "seeds", "array of integers", "This run's seeds, overriding the top level's."},
+      {"run", "time", "number", "Time budget in seconds, as `--time`; with no `spp`/`passes`, as many as fit."},
+      {"run", "spectral", "boolean", "Spectral rendering, as `--spectral` (default false)."},
+  };
+  return keys;
+}
+
 const std::vector<std::string>& RunSettings::commonKeys() {
   static const std::vector<std::string> keys = {"time", "spectral"};
   return keys;
@@ -290,8 +325,11 @@ ExperimentConfig parseExperiment(std::string_view text, const std::string& path)
       // Written by `photonlab run` into experiment.toml, which can be run again as it is.
       if (!node.is_table()) p.fail(&node, key, "must be a table");
     } else {
-      p.fail(&node, key, "unknown key (known: name, description, scene, units, env, env_rotate, env_scale, width, height, seed, "
-                         "seeds, threads, inset, exposure, tonemap, baseline, target_relmse, [reference], [[run]], [provenance])");
+      std::string known;
+      for (const ConfigKey& k : experimentKeys())
+        if (k.table.empty())
+          known += (known.empty() ? "" : ", ") + (k.key == "run" ? "[[run]]" : k.type == "table" ? "[" + k.key + "]" : k.key);
+      p.fail(&node, key, "unknown key (known: " + known + ")");
     }
   }
   if (!environment.enabled && (envRotate || envScale))

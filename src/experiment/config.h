@@ -1,6 +1,6 @@
 // An experiment: one scene, one reference, several runs (integrator + parameters + budget), each
-// over one or more seeds. Read from TOML (experiments/*.toml); README, "Experiments", lists the
-// keys. Everything is validated here, before anything renders: an unknown key, a wrong type or an
+// over one or more seeds. Read from TOML (experiments/*.toml); experimentKeys() below lists the
+// keys, and the documentation's reference page is generated from it. Everything is validated here, before anything renders: an unknown key, a wrong type or an
 // out-of-range value is an Error "FILE:LINE: KEY: what".
 #pragma once
 #include <array>
@@ -43,7 +43,7 @@ struct RunConfig {
 
 // Seeds are signed 64-bit integers. Runs take seeds ≥ 0; the reference, unless its config
 // names a seed, draws from seed −1, a stream no run can reach: a reference sharing random numbers
-// with a run would make that run's error look smaller than it is (README, "The reference").
+// with a run would make that run's error look smaller than it is (docs: how-to/reference.md).
 constexpr uint64_t kReferenceSeed = ~uint64_t(0);  // −1 as a signed seed
 inline std::string seedString(uint64_t seed) { return std::to_string(int64_t(seed)); }
 
@@ -69,6 +69,14 @@ struct ExperimentConfig {
 
 // The reference's settings, then every run's.
 std::vector<RunSettings*> allSettings(ExperimentConfig& config);
+
+// A key of the experiment TOML: the table it belongs in ("" for the top level, "reference",
+// "run"), its TOML type, and one line of meaning. The parser's "unknown key" message and the
+// documentation (`photonlab reference experiment`) are both made from this list.
+struct ConfigKey {
+  std::string table, key, type, doc;
+};
+const std::vector<ConfigKey>& experimentKeys();
 
 // Throws Error naming `path`, the line and the key.
 ExperimentConfig parseExperiment(std::string_view text, const std::string& path);

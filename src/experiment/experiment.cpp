@@ -71,6 +71,45 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   return m;
 }
 
+const std::vector<MetadataKey>& metadataKeys() {
+  static const std::vector<MetadataKey> keys = {
+      {"integrator", "The integrator's name."},
+      {"seed", "The random seed (-1: an experiment's reference stream)."},
+      {"git_revision", "The revision photonlab was built from (`-dirty` with uncommitted changes)."},
+      {"seconds", "Wall time spent, scene set-up and photon maps included; a merge adds its slices' times."},
+      {"scene", "The scene file as given."},
+      {"width", "Image width in pixels."},
+      {"height", "Image height in pixels."},
+      {"camera", "`--camera`: which of the file's cameras rendered (absent: the first, or the automatic view)."},
+      {"environment", "The sky, when there is one: its radiance or map, rotation and scale."},
+      {"units", "`--units` (or the experiment's `units`) when given."},
+      {"spp", "Samples every pixel received (camera-side and bidirectional integrators: iterations)."},
+      {"passes", "Passes completed (integrators counted in passes)."},
+      {"mean_spp", "The mean samples per pixel, when a time budget cut the last sample pass short."},
+      {"mean_passes", "The same in passes."},
+      {"photons", "Photon paths traced (when not a declared parameter)."},
+      {"radius", "The gather radius used or reached (m), when the integrator does not declare `radius`."},
+      {"mean_radius", "The mean gather radius reached (m), beside a declared `radius`."},
+      {"aov", "A debug image instead of radiance: `nan`, `photons`, `radius`, ..."},
+      {"spectral", "1: rendered spectrally."},
+      {"time_budget", "`--time` in seconds, when given."},
+      {"time_up", "1: the time budget ended the render."},
+      {"partial", "1: the render was interrupted (the image is `OUT.partial.exr`)."},
+      {"exposure", "PNG only: the exposure in EV."},
+      {"tonemap", "PNG only: the tone curve."},
+      {"range_begin", "A slice (`--sample-range`, `--pass-range`): its first sample or pass."},
+      {"range_end", "A slice: one past its last sample or pass."},
+      {"range_step", "A slice: every k-th sample or pass from `range_begin`."},
+      {"merged_slices", "`photonlab merge`: how many original slices the image adds up."},
+      {"label", "An experiment's run label."},
+      {"experiment", "The experiment's name."},
+      {"cache_key", "A cached reference: the hash of its settings, scene bytes and cache version."},
+      {"reference_file", "An experiment whose reference is a given file: that file."},
+      {"reference_integrator", "An experiment's run: the reference's integrator (likewise `reference_seed`, `reference_seconds`, `reference_spp`, `reference_passes`, `reference_photons`, `reference_git_revision`)."},
+  };
+  return keys;
+}
+
 const std::vector<std::string>& metricsColumns() {
   static const std::vector<std::string> columns = {
       "run",    "label",  "integrator", "seed", "checkpoint", "seconds",    "spp",         "passes",
@@ -234,7 +273,7 @@ class Experiment {
     load.units = c_.runs.front().settings.image.units;
     scene_ = loadGltf(c_.scene, &warnings, load);
     for (auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    setInterruptCooperative(true);  // from here on an interrupt keeps what is finished (README)
+    setInterruptCooperative(true);  // from here on an interrupt keeps what is finished (docs: how-to/checkpoint-resume.md)
     resolveSizes();
     chooseFolder();
     renderReference();
@@ -272,7 +311,7 @@ class Experiment {
     configHash_ = hex(fnv1a(key));
   }
 
-  // results/<name>/ unless it holds something else: see README, "Re-running an experiment".
+  // results/<name>/ unless it holds something else: see docs/pages/how-to/checkpoint-resume.md.
   void chooseFolder() {
     const bool explicitOut = !o_.out.empty();
     fs::path base = explicitOut ? fs::path(o_.out) : fs::path("results") / c_.name;

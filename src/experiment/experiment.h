@@ -1,6 +1,6 @@
 // `photonlab run EXPERIMENT.toml`: renders (or reuses) the reference, then every run over every
 // seed, with checkpoints along the way, and writes images, metrics.csv and the resolved config.
-// Layout of the results folder, and what resuming means, in README ("Experiments").
+// Layout of the results folder, and what resuming means, in docs/pages/reference/experiments.md.
 #pragma once
 #include <functional>
 #include <map>
@@ -29,8 +29,16 @@ ImageRGB renderRun(const Scene& scene, const RunSettings& settings, const RunChe
 std::map<std::string, std::string> runMetadata(const RunSettings& settings, const CheckpointInfo& info,
                                                const std::string& scenePath);
 
+// Every metadata key photonlab writes into an image besides the integrators' parameters (which
+// are written under their own keys, ParamSpec::metaKey): `photonlab reference metadata` is made
+// from this list, and a test holds runMetadata() to it.
+struct MetadataKey {
+  std::string key, doc;
+};
+const std::vector<MetadataKey>& metadataKeys();
+
 struct ExperimentOptions {
-  std::string out;        // results folder; empty = results/<name>/ (or results/<name>-N/, see README)
+  std::string out;        // results folder; empty = results/<name>/ (or results/<name>-N/, see the docs' Experiments page)
   std::string cache;      // reference cache folder; empty = .reference-cache/ beside the results folder
   bool force = false;     // overwrite a finished or different experiment in `out`
   bool quiet = false;

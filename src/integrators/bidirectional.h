@@ -43,7 +43,7 @@ struct BidirectionalOptions {
 // 0.3% of the scene radius is at 512² in its Cornell box). Three where they carry only indirect
 // light (vcm's default), which is smooth enough for a wider kernel: on SmallVCM's two scenes at
 // 512², 20 s, relMSE falls from 1 to 3 footprints (0.0098 to 0.0068 under the point light,
-// 0.0159 to 0.0068 under the sun) and rises again from 4 (README, "Bidirectional methods",
+// 0.0159 to 0.0068 under the sun) and rises again from 4 (docs: explanation/bidirectional.md,
 // Radius).
 inline float mergeFootprints(bool directMerges) { return directMerges ? 1.0f : 3.0f; }
 

@@ -345,7 +345,7 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   // The unguided fallback. Guiding pays only where its lower variance per sample outweighs its
   // higher cost per sample: the efficiency of an estimator is 1/(σ²·t), σ² the variance of one
   // sample and t its time. On the plain Cornell box a guided sample has 0.63× a path-traced
-  // one's variance but costs 1.8–2× as much (README), so the guide loses time it cannot win
+  // one's variance but costs 1.8–2× as much (docs: results/guiding.md), so the guide loses time it cannot win
   // back. With a time budget alone and fallback = auto, when the schedule reaches its last
   // iteration a short unguided iteration (a sixteenth of the last guided one's samples, at
   // least 4 spp) measures the path tracer's σ²·t beside the last guided iteration's, and the last

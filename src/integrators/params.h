@@ -1,6 +1,6 @@
 // Declared integrator parameters. Each integrator lists what it takes (name, type, default,
 // valid range, one line of doc) in its own file (integrators/registry.h); the command line, the
-// experiment TOML, the reference-cache fingerprint, the images' metadata and README's tables
+// experiment TOML, the reference-cache fingerprint, the images' metadata and the documentation's reference tables
 // are all derived from those declarations, so they cannot disagree.
 #pragma once
 #include <cstdint>

@@ -18,7 +18,7 @@
 //
 // Why lanes: the arithmetic of 16 paths runs in the time of about one, and Embree's packets
 // cost less per ray than single rays; with the work of a few rows (1024 paths) the packets
-// stay full. Measured: docs/performance.md.
+// stay full. Measured: docs/pages/explanation/performance.md.
 #include "integrators/path_lanes.h"
 
 #include <cstddef>

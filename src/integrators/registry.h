@@ -5,7 +5,7 @@
 //       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PathIntegrator>(...); }});
 //
 // Everything else (the CLI's flags and --help, the TOML keys and their validation, the
-// reference-cache fingerprint, the images' metadata, `photonlab integrators`, README's tables)
+// reference-cache fingerprint, the images' metadata, `photonlab integrators`, the documentation's reference page)
 // reads these entries. Adding an integrator is its own files plus one line in CMakeLists.txt.
 #pragma once
 #include <functional>
@@ -60,8 +60,8 @@ std::string integratorsTaking(const std::string& param);
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const ParamSet& params, const RenderOptions& image);
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const RenderOptions& image = {});
 
-// Markdown: one table per integrator (parameter, type, default, range, meaning), README's
-// "Integrators and their parameters" section; a test checks README against it.
+// Markdown: one table per integrator (parameter, type, default, range, meaning), the documentation's
+// Integrators reference (docs/pages/reference/integrators.md); a test checks the page against it.
 std::string integratorsMarkdown();
 
 }  // namespace pl

@@ -90,7 +90,7 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   // Buffers are allocated by this thread, before the workers trace into them. Allocated by the
   // workers, they came from glibc's per-thread arenas, whose growth and trimming (mprotect,
   // madvise) serialise with the other thread's page faults: two threads traced at 43% of the
-  // bare Embree rate instead of 57% (README, Performance). They are allocated a wave at a time
+  // bare Embree rate instead of 57% (docs: explanation/performance.md). They are allocated a wave at a time
   // (256 chunks per thread, ~0.5 s of tracing), not all at once: each allocation is an mmap of
   // its own (~7 µs, as is its munmap), so reserving 10⁸ paths' 24 000 buffers up front took
   // 0.17 s before the first path, and freeing them when a budget stopped the tracing another

@@ -84,7 +84,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     // rays together; each keeps its own stream and sampler. An item holds as many rows as fit in
     // one packet (one row for most integrators; e.g. 4 rows of 256 pixels for the path tracer's
     // lanes, whose 16-lane packets stay fuller the more paths they draw from: Integrators in
-    // README), a grouping fixed by the image's width alone. The budget is polled per packet.
+    // docs: explanation/determinism.md), a grouping fixed by the image's width alone. The budget is polled per packet.
     const int rowsPerItem = std::max(1, std::min(integrator.packetSize() / W, H));
     const int items = (H + rowsPerItem - 1) / rowsPerItem;
     parallelFor(size_t(items), threads, [&](size_t item, int) {

@@ -1,5 +1,5 @@
 // glTF 2.0 (.gltf with external or data-URI buffers, or .glb) into a Scene.
-// See README "Scenes" for the material and light mapping and the radiometric units.
+// See docs/pages/reference/gltf.md for the material and light mapping and the radiometric units.
 #pragma once
 #include <memory>
 #include <string>
@@ -23,7 +23,7 @@ struct GltfLoadOptions {
   // error).
   ImageReader readImage;
   // "radiometric" or "photometric" (--units), or empty: the file's asset.extras.photonlab.units,
-  // and photometric for a file without it (the glTF specification's units; README, Scenes).
+  // and photometric for a file without it (the glTF specification's units; docs: reference/gltf.md).
   std::string units;
   // Embree's BVH: fast, compact (about half the memory, slower rays), or compact only for
   // scenes of Scene::kCompactTriangles stored triangles and more (--bvh).

@@ -130,7 +130,7 @@ void textureInfo(const Members& t) {
   t.number("strength");
 }
 
-// extras.photonlab on a material or a light (README, "Scenes"): its known keys' types.
+// extras.photonlab on a material or a light (docs: reference/gltf.md): its known keys' types.
 void photonlabExtras(const Members& owner) {
   owner.object("extras", [](const Members& extras) {
     extras.object("photonlab", [](const Members& p) {

@@ -347,7 +347,7 @@ void Scene::commit() {
     RTCScene scene = rtcNewScene(device_);
     // The compact layout (index-referencing leaves, triangles paired into quads) takes less than
     // half the BVH's memory; with it the medium-quality build, whose peak memory is the compact
-    // tree's own (measured: README, Scenes). Robust mode: Embree's quad test is not watertight
+    // tree's own (docs: reference/gltf.md, Large files). Robust mode: Embree's quad test is not watertight
     // along a quad's diagonal without it (rays through it missed both halves); its Plücker test is.
     if (compact_) rtcSetSceneFlags(scene, RTCSceneFlags(RTC_SCENE_FLAG_COMPACT | RTC_SCENE_FLAG_ROBUST));
     rtcSetSceneBuildQuality(scene, compact_ ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
