@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Are two photonlab builds' images bit-identical? Renders every shipped scene with every
-# integrator both builds know, at 40 pixels wide, and compares them pixel for pixel
+# integrator the new build registers (`photonlab integrators`) that the old one can render, at
+# 40 pixels wide, and compares them pixel for pixel
 # (`photonlab compare` gives rmse 0 only for identical images). For refactors: docs/pages/explanation/architecture.md.
 #   scripts/compare_builds.sh OLD_BINARY NEW_BINARY [extra render options, e.g. --spectral]
 set -euo pipefail
@@ -14,13 +15,15 @@ differ=0 compared=0
 # SCENES="a.gltf b.gltf" compares other files (a variant with the material a change touches).
 for scene in ${SCENES:-"$root"/scenes/*.gltf}; do
   name=$(basename "$scene" .gltf)
-  for integrator in direct whitted path photon ppm sppm pppm light bdpt bpm vcm guided; do
+  for integrator in $("$new" integrators | sed -n 's/^\([a-z_]*\): .*/\1/p'); do
     case $integrator in
       photon) args="--spp 3 --photons 20000 --caustic-photons 20000" ;;
       ppm | sppm | pppm) args="--passes 3 --photons-per-pass 20000" ;;
+      radiosity) args="--spp 3 --patches 300" ;;
       *) args="--spp 3" ;;
     esac
-    # An integrator the old build does not have is skipped.
+    # An integrator the old build does not have, or cannot render here (radiosity refuses a
+    # sky and spectral mode), is skipped.
     if ! "$old" render "$scene" --integrator "$integrator" --width 40 $args -q -o "$tmp/a.exr" "$@" 2>/dev/null; then
       continue
     fi

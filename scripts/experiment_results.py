@@ -79,7 +79,7 @@ def read_exr(path):
 
 
 def aces_filmic(x):
-    """Narkowicz's fit of the ACES filmic curve, as photonlab's PNGs use it (src/io/tonemap.h):
+    """Narkowicz's fit of the ACES filmic curve, as photonlab's PNGs use it (src/image/tonemap.h):
     highlights roll off (f(1) = 0.80, f(4) = 0.97) instead of clipping; white from x ≈ 7.2."""
     x = np.maximum(x, 0.0)
     return np.minimum(1.0, x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))

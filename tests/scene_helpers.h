@@ -9,7 +9,7 @@
 #include "bsdfs/lambertian.h"
 #include "bsdfs/mirror.h"
 #include "lights/point_light.h"
-#include "render/image.h"
+#include "image/image.h"
 #include "scene/scene.h"
 
 namespace pl::test {

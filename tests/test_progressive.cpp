@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "progressive/progressive.h"
+#include "render/visible_probe.h"
 #include "scene/gltf_loader.h"
 #include "integrator_helpers.h"
 #include "scene_helpers.h"

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "gltf_fixture.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "lights/point_light.h"
 #include "photon/photon_tracer.h"
 #include "progressive/progressive.h"

@@ -215,7 +215,7 @@ def test_signed_difference_and_display_transforms():
     img[1, 1] = 0.2  # too dark
     d = er.signed_difference_map(img, ref)
     assert d[0, 0] == pytest.approx(0.4) and d[1, 1] == pytest.approx(-0.4) and d[0, 1] == 0
-    # The same curves as photonlab's PNGs (src/io/tonemap.h): clamp by default; Narkowicz's ACES.
+    # The same curves as photonlab's PNGs (src/image/tonemap.h): clamp by default; Narkowicz's ACES.
     x = np.array([0.0, 0.25, 1.0, 4.0, 100.0])
     assert np.allclose(er.to_display(x), er.to_srgb(x))
     f = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)
@@ -613,3 +613,22 @@ def test_profile_guided_build_renders_the_plain_build_s_images_bit_for_bit(tmp_p
         assert r.returncode == 0 and "all bit-identical" in r.stdout, (files, options, r.stdout, r.stderr[-2000:])
         compared = int(r.stdout.split(" renders compared")[0].split()[-1])
         assert compared >= 12 * len(files.split())  # every integrator on every scene, none skipped
+
+
+def test_src_folders_are_layered_without_cycles(tmp_path):
+    import check_layers
+    problems, order = check_layers.check(os.path.join(ROOT, "src"))
+    assert problems == [], "\n".join(problems)
+    assert order[0].split()[1] == "core" and len(order) == len(check_layers.LAYERS)
+    # A tree with a cycle and a climbing include fails, naming the file and the line.
+    for folder, name, text in [("core", "a.h", '#include "scene/b.h"\n'), ("scene", "b.h", '#include <vector>\n#include "core/a.h"\n'),
+                               ("spectral", "c.cpp", '#include "core/a.h"\n')]:
+        os.makedirs(tmp_path / folder, exist_ok=True)
+        (tmp_path / folder / name).write_text(text)
+    problems, _ = check_layers.check(str(tmp_path))
+    assert "cycle between the folders core, scene" in problems
+    assert "src/core/a.h:1: core/ includes scene/, a layer above it" in problems
+    assert not any("spectral" in p for p in problems)
+    (tmp_path / "newfolder").mkdir()
+    assert any("newfolder" in p for p in check_layers.check(str(tmp_path))[0])
+    assert run_script("check_layers.py", "--quiet", "--src", str(tmp_path)).returncode == 1

@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "bsdfs/dielectric.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "lights/point_light.h"
 #include "progressive/progressive.h"
 #include "render/renderer.h"

@@ -9,7 +9,7 @@
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sampling.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 

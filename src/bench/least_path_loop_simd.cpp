@@ -29,7 +29,7 @@
 #include "core/lanes_isa.h"
 #include "core/parallel.h"
 #include "core/rng.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 // The kernel (least_path_loop_simd_kernel.h), compiled for each instruction set: core/lanes.h.
 #define PL_LANES_KERNEL "bench/least_path_loop_simd_kernel.h"

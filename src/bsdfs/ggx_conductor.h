@@ -1,7 +1,7 @@
 #pragma once
 #include "bsdfs/bsdf.h"
 #include "bsdfs/ggx.h"
-#include "scene/texture.h"
+#include "image/texture.h"
 
 namespace pl {
 

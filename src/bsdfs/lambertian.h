@@ -1,6 +1,6 @@
 #pragma once
 #include "bsdfs/bsdf.h"
-#include "scene/texture.h"
+#include "image/texture.h"
 
 namespace pl {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "integrators/registry.h"
-#include "io/tonemap.h"
+#include "image/tonemap.h"
 #include "render/render_options.h"
 
 namespace pl {

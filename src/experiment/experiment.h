@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "experiment/config.h"
-#include "render/image.h"
+#include "image/image.h"
 
 namespace pl {
 

@@ -39,7 +39,7 @@
 #include "core/parallel.h"
 #include "integrators/registry.h"
 #include "photon/hash_grid.h"
-#include "progressive/progressive.h"
+#include "render/visible_probe.h"
 #include "render/camera_path.h"
 #include "render/checkpoints.h"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 

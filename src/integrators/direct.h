@@ -1,5 +1,5 @@
 #pragma once
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 

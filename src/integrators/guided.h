@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "guiding/guide.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 

@@ -1,7 +1,7 @@
 #pragma once
 #include <memory>
 
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "integrators/path_lanes.h"
 
 namespace pl {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/lanes_isa.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "photon/kernels.h"
 #include "photon/photon_tracer.h"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "integrators/params.h"
 
 namespace pl {

@@ -4,14 +4,14 @@
 #include <map>
 #include <string>
 
-#include "io/tonemap.h"
-#include "render/image.h"
+#include "image/tonemap.h"
+#include "image/image.h"
 #include "render/render_options.h"
 
 namespace pl {
 
 // .exr: linear float RGB with `metadata` as string attributes. .png: 8-bit display values made
-// by `display` (io/tonemap.h: exposure, tone curve, sRGB transfer curve; by default clamped to
+// by `display` (image/tonemap.h: exposure, tone curve, sRGB transfer curve; by default clamped to
 // [0, 1]), recorded in its metadata too. Throws Error on failure.
 void writeImage(const std::string& path, const ImageRGB& image, const std::map<std::string, std::string>& metadata = {},
                 const Display& display = {});

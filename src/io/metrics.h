@@ -4,7 +4,7 @@
 //   mae    = Σ |x − r| / n
 //   meanRatio = mean(x) / mean(r)                  (1 = no overall brightening or darkening)
 #pragma once
-#include "render/image.h"
+#include "image/image.h"
 
 namespace pl {
 

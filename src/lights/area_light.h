@@ -3,7 +3,7 @@
 
 #include "core/frame.h"
 #include "lights/light.h"
-#include "scene/texture.h"
+#include "image/texture.h"
 
 namespace pl {
 

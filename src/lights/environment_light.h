@@ -26,7 +26,7 @@
 
 #include "core/sampling.h"
 #include "lights/light.h"
-#include "render/image.h"
+#include "image/image.h"
 
 namespace pl {
 

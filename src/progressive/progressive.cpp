@@ -94,27 +94,6 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
   return stats.empty() ? 0.0 : sum / stats.size();
 }
 
-DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
-  // The distances at which the camera sees the surfaces photons are gathered on.
-  const Camera& c = scene.camera();
-  std::vector<float> distances;
-  for (const ProbePoint& p : probeVisiblePoints(scene, width, height)) distances.push_back(p.distance);
-  DefaultRadius r;
-  r.visiblePoints = distances.size();
-  if (distances.empty()) {
-    // Nothing diffuse in view: the distance to the scene's centre, at least its radius.
-    r.distance = std::max(glm::length(scene.bounds().center() - c.position), scene.bounds().radius());
-  } else {
-    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-    r.distance = distances[distances.size() / 2];
-  }
-  // A pixel's footprint at that distance (the film spans 2 d tan(fov/2) vertically).
-  r.footprint = 2.0f * r.distance * std::tan(0.5f * c.yfov) / float(height);
-  r.radius = DefaultRadius::kFootprints * r.footprint;
-  if (!(r.radius > 0) || !std::isfinite(r.radius)) r.radius = 1e-3f * std::max(scene.bounds().radius(), 1e-3f);
-  return r;
-}
-
 PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
     : image(io), budget(io.timeLimit) {
   resolveResolution(scene.camera(), image);

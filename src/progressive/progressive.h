@@ -8,7 +8,7 @@
 
 #include "core/budget.h"
 #include "core/interrupt.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "integrators/params.h"
 #include "photon/photon_tracer.h"
 #include "render/camera_path.h"
@@ -80,18 +80,6 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
                    ProgressiveStats* stats);
 double meanRadius(const std::vector<ProgressiveStats>& stats);
 
-// Default initial radius: a few pixels' footprint at the median distance from the camera to
-// the points it sees first through mirrors and glass (the gather points), over a 32×32 grid of
-// camera rays. The distance to the scene's centre, used before, collapses when the camera sits
-// at the centre (inside a furnace: 10⁻⁴ m, and salt noise 40× the answer).
-struct DefaultRadius {
-  static constexpr float kFootprints = 5.0f;
-  float radius = 0;      // kFootprints · footprint (m)
-  float distance = 0;    // median distance to a visible point (m)
-  float footprint = 0;   // one pixel's footprint at that distance (m)
-  size_t visiblePoints = 0;  // of the 1024 rays, how many found a diffuse or glossy point
-};
-DefaultRadius defaultRadius(const Scene& scene, int width, int height);
 // The registry's resolve step for the progressive integrators: an unset radius becomes
 // defaultRadius(); returns the sentence the CLI prints about it.
 std::string resolveProgressiveRadius(const Scene& scene, int width, int height, ParamSet& params);

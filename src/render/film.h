@@ -11,7 +11,7 @@
 
 #include "core/common.h"
 #include "core/parallel.h"
-#include "render/image.h"
+#include "image/image.h"
 #include "render/render_options.h"
 
 namespace pl {

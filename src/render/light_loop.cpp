@@ -1,10 +1,10 @@
-// The render loop of light-side integrators (LightPathIntegrator, integrators/integrator.h).
+// The render loop of light-side integrators (LightPathIntegrator, render/integrator.h).
 #include <atomic>
 
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/parallel.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 #include "render/checkpoints.h"
 
 namespace pl {

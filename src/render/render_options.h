@@ -10,7 +10,7 @@
 #include "core/exact_sum.h"
 
 #include "lights/environment_light.h"
-#include "render/image.h"
+#include "image/image.h"
 #include "scene/camera.h"
 
 namespace pl {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
-#include "render/image.h"
+#include "render/integrator.h"
+#include "image/image.h"
 #include "render/render_options.h"
 
 namespace pl {

@@ -1,5 +1,8 @@
 #include "render/visible_probe.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/rng.h"
 
 namespace pl {
@@ -29,6 +32,27 @@ std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int he
       }
     }
   return points;
+}
+
+DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
+  // The distances at which the camera sees the surfaces photons are gathered on.
+  const Camera& c = scene.camera();
+  std::vector<float> distances;
+  for (const ProbePoint& p : probeVisiblePoints(scene, width, height)) distances.push_back(p.distance);
+  DefaultRadius r;
+  r.visiblePoints = distances.size();
+  if (distances.empty()) {
+    // Nothing diffuse in view: the distance to the scene's centre, at least its radius.
+    r.distance = std::max(glm::length(scene.bounds().center() - c.position), scene.bounds().radius());
+  } else {
+    std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+    r.distance = distances[distances.size() / 2];
+  }
+  // A pixel's footprint at that distance (the film spans 2 d tan(fov/2) vertically).
+  r.footprint = 2.0f * r.distance * std::tan(0.5f * c.yfov) / float(height);
+  r.radius = DefaultRadius::kFootprints * r.footprint;
+  if (!(r.radius > 0) || !std::isfinite(r.radius)) r.radius = 1e-3f * std::max(scene.bounds().radius(), 1e-3f);
+  return r;
 }
 
 }  // namespace pl

@@ -20,4 +20,17 @@ struct ProbePoint {
 // on every call. Rays that leave the scene, or bounce more than 16 times, give no point.
 std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int height, int n = 32);
 
+// The default gather radius of the density estimators (the progressive methods, vcm and bpm):
+// a few pixels' footprint at the median distance from the camera to the points it sees first
+// through mirrors and glass, over a 32×32 grid of camera rays. (The distance to the scene's
+// centre collapses when the camera sits at the centre, inside a furnace.)
+struct DefaultRadius {
+  static constexpr float kFootprints = 5.0f;
+  float radius = 0;      // kFootprints · footprint (m)
+  float distance = 0;    // median distance to a visible point (m)
+  float footprint = 0;   // one pixel's footprint at that distance (m)
+  size_t visiblePoints = 0;  // of the 1024 rays, how many found a diffuse or glossy point
+};
+DefaultRadius defaultRadius(const Scene& scene, int width, int height);
+
 }  // namespace pl

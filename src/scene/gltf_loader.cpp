@@ -25,7 +25,7 @@
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
-#include "io/tonemap.h"
+#include "image/tonemap.h"
 #include "scene/gltf_schema.h"
 #include "spectral/spectral.h"
 

@@ -1,4 +1,4 @@
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace pl {
 
