@@ -29,7 +29,6 @@ LAYERS = [
     "radiosity",    # patches, form factors, the radiosity solver
     "render",       # the integrator interface, films, the render loops, the visibility probe
     "integrators",  # one file per integrator, their parameters and the registry
-    "progressive",  # the progressive photon-mapping integrators
     "io",           # image files, error metrics
     "experiment",   # experiment configs and the runner
     "bench",        # the bench's yardsticks

@@ -12,7 +12,7 @@
 #include "core/budget.h"
 #include "integrators/photon.h"
 #include "photon/photon_tracer.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "integrator_helpers.h"

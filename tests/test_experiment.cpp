@@ -7,7 +7,7 @@
 
 #include "experiment/config.h"
 #include "photon/kernels.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "gltf_fixture.h"
 
 using namespace pl;

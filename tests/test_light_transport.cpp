@@ -19,7 +19,7 @@
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
 #include "photon/photon_tracer.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "integrator_helpers.h"
 #include "scene_helpers.h"

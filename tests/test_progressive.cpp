@@ -2,7 +2,7 @@
 // and PPPM to closed forms, and the convergence rate measured as a log–log slope.
 #include <catch2/catch.hpp>
 
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/visible_probe.h"
 #include "scene/gltf_loader.h"
 #include "integrator_helpers.h"

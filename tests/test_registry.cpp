@@ -7,7 +7,10 @@
 #include <sstream>
 
 #include "experiment/config.h"
+#include "integrators/builtins.h"
+#include "integrators/progressive.h"
 #include "integrators/registry.h"
+#include "render/integrator.h"
 
 using namespace pl;
 using Catch::Matchers::Contains;
@@ -103,7 +106,11 @@ TEST_CASE("registry: the documentation's parameter tables are the registry's (ph
   std::stringstream ss;
   ss << in.rdbuf();
   INFO("regenerate with: python3 scripts/docs_reference.py");
-  CHECK(ss.str().find(integratorsMarkdown()) != std::string::npos);
+  // The built-ins (this test binary registers a test-only integrator too, which photonlab lacks).
+  for (const IntegratorEntry& builtin : builtinIntegrators()) {
+    INFO(builtin.name);
+    CHECK(ss.str().find(integratorMarkdown(integratorEntry(builtin.name))) != std::string::npos);
+  }
 }
 
 TEST_CASE("experiment keys: every documented key is one the parser accepts") {
@@ -149,4 +156,51 @@ TEST_CASE("experiment keys: every documented key is one the parser accepts") {
   // And a key the list does not hold is refused, the message listing the documented ones.
   CHECK_THROWS_WITH(parseExperiment(top + "colour = 1\n" + reference + run, "x.toml"),
                     Contains("colour: unknown key (known: name, description, scene, units"));
+}
+
+TEST_CASE("registry: each entry's declared family is the loop its integrator plugs into") {
+  for (const IntegratorEntry* e : integrators()) {
+    INFO(e->name << ": declared " << familyName(e->family));
+    auto integrator = e->make(e->defaults(), RenderOptions{});
+    const bool pixel = dynamic_cast<PixelIntegrator*>(integrator.get()) != nullptr;
+    const bool pass = dynamic_cast<PassIntegrator*>(integrator.get()) != nullptr;
+    const bool light = dynamic_cast<LightPathIntegrator*>(integrator.get()) != nullptr;
+    CHECK((e->family == IntegratorFamily::Pixel) == pixel);
+    CHECK((e->family == IntegratorFamily::Pass) == pass);
+    CHECK((e->family == IntegratorFamily::LightPaths) == light);
+    CHECK((e->family == IntegratorFamily::Own) == !(pixel || pass || light));
+    CHECK(std::string(integrator->name()) == e->name);
+  }
+}
+
+TEST_CASE("registry: a name is registered once, and a declaration is checked when it is registered") {
+  const IntegratorEntry& path = integratorEntry("path");
+  auto copy = [&](std::string name, std::vector<ParamSpec> params) {
+    return IntegratorEntry(std::move(name), "test", IntegratorFamily::Pixel, "spp", std::move(params), path.make);
+  };
+  CHECK_THROWS_WITH(IntegratorRegistration(copy("path", path.params)), "integrator 'path' is registered twice");
+  CHECK_THROWS_WITH(IntegratorRegistration(copy("twice", {params::spp(), params::spp()})),
+                    "integrator twice: parameter 'spp' is declared twice");
+  ParamSpec bad = params::maxDepth();
+  bad.defaultValue = "-3";
+  CHECK_THROWS_WITH(IntegratorRegistration(copy("bad-default", {bad})), Contains("the default of 'max_depth' is invalid"));
+  ParamSpec budget = params::passes();
+  CHECK_THROWS_WITH(IntegratorRegistration(copy("two-budgets", {params::spp(), budget})),
+                    "integrator two-budgets: more than one budget parameter");
+  CHECK(findIntegrator("twice") == nullptr);
+  CHECK(findIntegrator("two-budgets") == nullptr);
+}
+
+TEST_CASE("registry: reading or setting a parameter the integrator does not declare throws") {
+  ParamSet path = integratorEntry("path").defaults();
+  CHECK_THROWS_WITH(path.real("alpha"), Contains("'alpha' is not a declared parameter (declared: spp, max_depth"));
+  CHECK_THROWS_WITH(path.choice("kernel"), Contains("'kernel' is not a declared parameter"));
+  CHECK_THROWS_WITH(path.setNumber("alpha", 0.5), Contains("'alpha' is not a declared parameter"));
+  CHECK_THROWS_WITH(path.setText("radius", "1"), Contains("'radius' is not a declared parameter"));
+  CHECK_THROWS_WITH(path.setChoice("kernel", "cone"), Contains("'kernel' is not a declared parameter"));
+  CHECK_THROWS(path.resolve("radius", 1.0));
+  // A declared one reads as before: its default, or 0 when unset.
+  CHECK(path.integer("max_depth") == 64);
+  ParamSet photon = integratorEntry("photon").defaults();
+  CHECK(photon.real("radius") == 0.0);
 }

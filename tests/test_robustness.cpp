@@ -11,7 +11,7 @@
 #include "render/integrator.h"
 #include "lights/point_light.h"
 #include "photon/photon_tracer.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 #include "integrator_helpers.h"

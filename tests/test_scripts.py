@@ -592,6 +592,7 @@ def _make_dirs(path):
     return str(path)
 
 
+@pytest.mark.slow
 def test_profile_guided_build_renders_the_plain_build_s_images_bit_for_bit(tmp_path):
     # scripts/build_pgo.sh: instrumented build, training renders, rebuild with the profile.
     # No flag it adds may change floating-point results, so every integrator's image must be the

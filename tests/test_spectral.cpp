@@ -6,7 +6,7 @@
 #include "bsdfs/dielectric.h"
 #include "render/integrator.h"
 #include "lights/point_light.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_loader.h"

@@ -20,7 +20,7 @@
 #include "spectral/spectral.h"
 #include "integrators/radiosity.h"
 #include "integrators/registry.h"
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
 

@@ -257,16 +257,6 @@ int cmdInfo(const std::string& scenePath, const std::string& units) {
   return 0;
 }
 
-// The integrators a render can be sliced with, in `unit` (Integrator::sliceUnit), for messages.
-std::string slicedBy(const std::string& unit) {
-  std::string names;
-  for (const IntegratorEntry* e : integrators()) {
-    const char* u = e->make(e->defaults(), RenderOptions{})->sliceUnit();
-    if (u && unit == u) names += (names.empty() ? "" : ", ") + e->name;
-  }
-  return names;
-}
-
 // "A:B" or "A:B:K" with 0 ≤ A < B and K ≥ 1 (K: every K-th sample or pass from A).
 void parseRange(const std::string& flag, const std::string& text, int* begin, int* end, int* step) {
   const std::string expected = flag + ": expected A:B or A:B:K with 0 <= A < B and K >= 1, got '" + text + "'";
@@ -494,8 +484,8 @@ int main(int argc, char** argv) {
   std::string sampleRange, passRange;
   render->add_option("--sample-range", sampleRange,
                      "A:B: render only samples A..B-1 of the full render, keyed as it keys them, into an EXR of their "
-                     "exact sums (photonlab merge adds slices up) [" + slicedBy("spp") + "]");
-  render->add_option("--pass-range", passRange, "A:B: the same in passes [" + slicedBy("passes") + "]");
+                     "exact sums (photonlab merge adds slices up) [" + integratorsSlicedBy("spp") + "]");
+  render->add_option("--pass-range", passRange, "A:B: the same in passes [" + integratorsSlicedBy("passes") + "]");
   bool checkpoints = false;
   render->add_flag("--checkpoints", checkpoints,
                    "Integrators counted in passes: also write OUT.pass-N.exr after passes 1, 2, 4, 8, ...");
@@ -651,11 +641,8 @@ int main(int argc, char** argv) {
         }
       if (aov == "nan") {
         // Counted per pixel sample: the camera-side integrators' loop (renderPixels).
-        std::string pixel;
-        for (const IntegratorEntry* e : integrators())
-          if (dynamic_cast<PixelIntegrator*>(e->make(e->defaults(), options).get())) pixel += (pixel.empty() ? "" : ", ") + e->name;
-        if (!dynamic_cast<PixelIntegrator*>(entry.make(settings.params, options).get()))
-          throw Error("--aov nan: only with " + pixel);
+        if (entry.family != IntegratorFamily::Pixel)
+          throw Error("--aov nan: only with " + integratorsOfFamily(IntegratorFamily::Pixel));
         options.nanAov = true;
       } else if (!aov.empty()) {
         setParam("aov", "--aov", aov);
@@ -671,8 +658,7 @@ int main(int argc, char** argv) {
         const bool samples = !sampleRange.empty();
         const std::string flag = samples ? "--sample-range" : "--pass-range", unit = samples ? "spp" : "passes";
         if (!sampleRange.empty() && !passRange.empty()) throw Error("--sample-range and --pass-range: one or the other");
-        const char* sliceUnit = entry.make(settings.params, options)->sliceUnit();
-        if (!sliceUnit || unit != sliceUnit) throw Error(flag + ": only with " + slicedBy(unit));
+        if (entry.sliceUnit != unit) throw Error(flag + ": only with " + integratorsSlicedBy(unit));
         parseRange(flag, samples ? sampleRange : passRange, &options.rangeBegin, &options.rangeEnd, &options.rangeStep);
         if (timeOpt->count()) throw Error(flag + ": a slice is a number of " + unit + ", not a time (no --time)");
         if (checkpoints) throw Error(flag + ": no --checkpoints (a slice's are not the full render's)");

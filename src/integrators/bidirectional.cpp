@@ -37,7 +37,7 @@
 #include "core/memory.h"
 #include "core/sampler.h"
 #include "core/parallel.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 #include "photon/hash_grid.h"
 #include "render/visible_probe.h"
 #include "render/camera_path.h"
@@ -847,48 +847,58 @@ ParamSpec onlyStrategy(const char* name, const char* doc) {
   return s;
 }
 
-const IntegratorRegistration bdpt({
-    "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power- or balance-heuristic MIS",
-    {iterations(), params::maxDepth(), heuristic(), sampler(), strategyAov(),
-     onlyStrategy("only_s", "debug: render technique (s, t) alone, unweighted: its light vertices s (with only_t)"),
-     onlyStrategy("only_t", "debug: its camera vertices t, the pinhole included (with only_s)")},
-    [](const ParamSet& p, const RenderOptions&) {
-      BidirectionalOptions o = common(p);
-      o.strategies = p.choice("aov") == "strategies";
-      if (p.isSet("only_s") != p.isSet("only_t")) throw Error("--only-s and --only-t go together");
-      if (p.isSet("only_s")) {
-        o.onlyS = int(p.integer("only_s"));
-        o.onlyT = int(p.integer("only_t"));
-        if (o.onlyT < 1) throw Error("--only-t: a technique has at least the camera's vertex, t >= 1");
-      }
-      return std::make_unique<VertexConnectionMerging>(o, "bdpt");
-    }});
-
-const IntegratorRegistration bpm({
-    "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
-    {iterations(), params::maxDepth(), heuristic(), sampler(), mergeRadius("one pixel footprint at the median visible distance"),
-     mergeAlpha()},
-    [](const ParamSet& p, const RenderOptions&) {
-      BidirectionalOptions o = common(p);
-      o.connect = false;
-      o.merge = true;
-      return std::make_unique<VertexConnectionMerging>(o, "bpm");
-    },
-    resolveMergeRadius});
-
-const IntegratorRegistration vcm({
-    "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
-    {iterations(), params::maxDepth(), heuristic(), sampler(),
-     mergeRadius("three pixel footprints at the median visible distance (one with --direct-merges on)"), mergeAlpha(),
-     directMerges()},
-    [](const ParamSet& p, const RenderOptions&) {
-      BidirectionalOptions o = common(p);
-      o.merge = true;
-      o.directMerges = p.choice("direct_merges") == "on";
-      return std::make_unique<VertexConnectionMerging>(o, "vcm");
-    },
-    resolveMergeRadius});
-
 }  // namespace
+
+IntegratorEntry bdptEntry() {
+  return IntegratorEntry(
+      "bdpt", "bidirectional path tracing (Veach 1997): every connection (s, t), power- or balance-heuristic MIS",
+      IntegratorFamily::Own, "spp",
+      {iterations(), params::maxDepth(), heuristic(), sampler(), strategyAov(),
+       onlyStrategy("only_s", "debug: render technique (s, t) alone, unweighted: its light vertices s (with only_t)"),
+       onlyStrategy("only_t", "debug: its camera vertices t, the pinhole included (with only_s)")},
+      [](const ParamSet& p, const RenderOptions&) {
+        BidirectionalOptions o = common(p);
+        o.strategies = p.choice("aov") == "strategies";
+        if (p.isSet("only_s") != p.isSet("only_t")) throw Error("--only-s and --only-t go together");
+        if (p.isSet("only_s")) {
+          o.onlyS = int(p.integer("only_s"));
+          o.onlyT = int(p.integer("only_t"));
+          if (o.onlyT < 1) throw Error("--only-t: a technique has at least the camera's vertex, t >= 1");
+        }
+        return std::make_unique<VertexConnectionMerging>(o, "bdpt");
+      });
+}
+
+IntegratorEntry bpmEntry() {
+  return IntegratorEntry(
+      "bpm", "bidirectional photon mapping (Vorba 2011): merging at every camera vertex, MIS over merge depths",
+      IntegratorFamily::Own, "spp",
+      {iterations(), params::maxDepth(), heuristic(), sampler(), mergeRadius("one pixel footprint at the median visible distance"),
+       mergeAlpha()},
+      [](const ParamSet& p, const RenderOptions&) {
+        BidirectionalOptions o = common(p);
+        o.connect = false;
+        o.merge = true;
+        return std::make_unique<VertexConnectionMerging>(o, "bpm");
+      },
+      resolveMergeRadius);
+}
+
+IntegratorEntry vcmEntry() {
+  return IntegratorEntry(
+      "vcm", "vertex connection and merging (Georgiev et al. 2012): bdpt and bpm under one MIS",
+      IntegratorFamily::Own, "spp",
+      {iterations(), params::maxDepth(), heuristic(), sampler(),
+       mergeRadius("three pixel footprints at the median visible distance (one with --direct-merges on)"), mergeAlpha(),
+       directMerges()},
+      [](const ParamSet& p, const RenderOptions&) {
+        BidirectionalOptions o = common(p);
+        o.merge = true;
+        o.directMerges = p.choice("direct_merges") == "on";
+        return std::make_unique<VertexConnectionMerging>(o, "vcm");
+      },
+      resolveMergeRadius);
+}
+
 
 }  // namespace pl

@@ -53,7 +53,6 @@ class VertexConnectionMerging final : public Integrator {
       : o_(options), name_(std::move(name)) {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;
   const char* name() const override { return name_.c_str(); }
-  const char* sliceUnit() const override { return "spp"; }  // iterations, each an independent estimate
   std::vector<NamedImage> extraImages() const override { return strategyImages_; }
 
   // Techniques are numbered by path depth k = s + t − 2 (bounces), then s = 0 … k + 1.

@@ -1,6 +1,6 @@
 #include "integrators/direct.h"
 
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -13,9 +13,12 @@ Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelen
   return L;
 }
 
-static const IntegratorRegistration registration({
-    "direct", "emission seen directly plus one shadow-ray light sample at the first hit (local illumination)",
-    {params::spp(), params::sampler(DirectIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<DirectIntegrator>(p.choice("sampler") == "sobol"); }});
+IntegratorEntry directEntry() {
+  return IntegratorEntry(
+      "direct", "emission seen directly plus one shadow-ray light sample at the first hit (local illumination)",
+      IntegratorFamily::Pixel, "spp",
+      {params::spp(), params::sampler(DirectIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<DirectIntegrator>(p.choice("sampler") == "sobol"); });
+}
 
 }  // namespace pl

@@ -9,7 +9,7 @@
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "integrators/path.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 #include "render/camera_path.h"
 #include "render/checkpoints.h"
 #include "spectral/spectral.h"
@@ -363,7 +363,8 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   // iteration's preparation (at the small budgets where the schedule reaches its last iteration
   // after a few samples, P dominated t_g and sent every photon-guided render to path tracing).
   // With a sample count (no time budget) the schedule is kept: samples, not time, are the budget.
-  const PathIntegrator pathTracer(options_.maxDepth);
+  // Its Li is called one sample at a time here, so the lanes (a batch of rows) do not apply.
+  const PathIntegrator pathTracer(options_.maxDepth, /*sobol=*/false, /*lanes=*/false, /*spectral=*/false);
   const bool autoFallback = options_.fallback == "auto" && fixed.empty();
   const bool alwaysFallback = options_.fallback == "always";
   bool probed = false, unguidedWins = false;
@@ -511,22 +512,26 @@ std::vector<ParamSpec> guidedParams() {
   return {params::spp(), params::maxDepth(), guide, fraction, combine, fallback, spatial, photons, k};
 }
 
-const IntegratorRegistration registration({
-    "guided", "path guiding: path tracing with directions from a learned incident-light distribution (SD-tree or photons)",
-    guidedParams(),
-    [](const ParamSet& p, const RenderOptions&) {
-      GuidedOptions o;
-      o.maxDepth = int(p.integer("max_depth"));
-      o.guide = p.choice("guide");
-      o.bsdfFraction = float(p.real("bsdf_fraction"));
-      o.combine = p.choice("combine");
-      o.fallback = p.choice("fallback");
-      o.guideOptions.spatialThreshold = p.real("spatial_threshold");
-      o.guideOptions.photons = uint64_t(p.integer("photons"));
-      o.guideOptions.photonsPerDistribution = int(p.integer("k"));
-      return std::make_unique<GuidedIntegrator>(o);
-    }});
-
 }  // namespace
+
+IntegratorEntry guidedEntry() {
+  return IntegratorEntry(
+      "guided", "path guiding: path tracing with directions from a learned incident-light distribution (SD-tree or photons)",
+      IntegratorFamily::Own, nullptr,
+      guidedParams(),
+      [](const ParamSet& p, const RenderOptions&) {
+        GuidedOptions o;
+        o.maxDepth = int(p.integer("max_depth"));
+        o.guide = p.choice("guide");
+        o.bsdfFraction = float(p.real("bsdf_fraction"));
+        o.combine = p.choice("combine");
+        o.fallback = p.choice("fallback");
+        o.guideOptions.spatialThreshold = p.real("spatial_threshold");
+        o.guideOptions.photons = uint64_t(p.integer("photons"));
+        o.guideOptions.photonsPerDistribution = int(p.integer("k"));
+        return std::make_unique<GuidedIntegrator>(o);
+      });
+}
+
 
 }  // namespace pl

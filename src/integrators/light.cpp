@@ -1,6 +1,6 @@
 #include "integrators/light.h"
 
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -93,9 +93,12 @@ ParamSpec lightPathsPerPixel() {
 }
 }  // namespace
 
-static const IntegratorRegistration registration({
-    "light", "light tracing: paths from the lights, every diffuse or glossy vertex splatted to the camera",
-    {lightPathsPerPixel(), params::maxDepth()},
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<LightTracer>(int(p.integer("max_depth"))); }});
+IntegratorEntry lightEntry() {
+  return IntegratorEntry(
+      "light", "light tracing: paths from the lights, every diffuse or glossy vertex splatted to the camera",
+      IntegratorFamily::LightPaths, "spp",
+      {lightPathsPerPixel(), params::maxDepth()},
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<LightTracer>(int(p.integer("max_depth"))); });
+}
 
 }  // namespace pl

@@ -58,14 +58,14 @@ void ParamSet::check(const ParamSpec& s, double v) const {
 }
 
 void ParamSet::setNumber(const std::string& name, double v) {
-  const ParamSpec& s = *spec(name);
+  const ParamSpec& s = declared(name);
   if (s.type == ParamType::Choice) throw Error("must be one of " + s.range());
   check(s, v);
   values_[name].number = v;
 }
 
 void ParamSet::setChoice(const std::string& name, const std::string& v) {
-  const ParamSpec& s = *spec(name);
+  const ParamSpec& s = declared(name);
   if (s.type != ParamType::Choice) throw Error("must be a number");
   for (auto& c : s.choices)
     if (c == v) {
@@ -76,7 +76,7 @@ void ParamSet::setChoice(const std::string& name, const std::string& v) {
 }
 
 void ParamSet::setText(const std::string& name, const std::string& text) {
-  const ParamSpec& s = *spec(name);
+  const ParamSpec& s = declared(name);
   if (s.type == ParamType::Choice) return setChoice(name, text);
   // The whole text must be one number: "12abc", "" and " 3" are refused.
   char* end = nullptr;
@@ -86,12 +86,24 @@ void ParamSet::setText(const std::string& name, const std::string& text) {
   setNumber(name, v);
 }
 
+const ParamSpec& ParamSet::declared(const std::string& name) const {
+  const ParamSpec* s = spec(name);
+  if (!s) {
+    std::string names;
+    for (const ParamSpec& p : specs()) names += (names.empty() ? "" : ", ") + p.name;
+    throw Error("'" + name + "' is not a declared parameter (declared: " + (names.empty() ? "none" : names) + ")");
+  }
+  return *s;
+}
+
 double ParamSet::real(const std::string& name) const {
+  declared(name);
   auto it = values_.find(name);
   return it == values_.end() ? 0.0 : it->second.number;
 }
 
 std::string ParamSet::choice(const std::string& name) const {
+  declared(name);
   auto it = values_.find(name);
   return it == values_.end() ? std::string() : it->second.text;
 }

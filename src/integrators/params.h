@@ -68,9 +68,10 @@ class ParamSet {
   void setChoice(const std::string& name, const std::string& v);   // TOML strings
   void unset(const std::string& name) { values_.erase(name); }
   // For scene-derived defaults (an integrator's resolve step): no validation.
-  void resolve(const std::string& name, double v) { values_[name].number = v; }
+  void resolve(const std::string& name, double v) { values_[declared(name).name].number = v; }
 
-  // Typed reads of a declared parameter; the unset ones read as 0 / "".
+  // Typed reads of a declared parameter; the unset ones read as 0 / "". Reading or setting a
+  // name the integrator does not declare throws Error: a typo is never a silent 0.
   double real(const std::string& name) const;
   int64_t integer(const std::string& name) const { return int64_t(real(name)); }
   std::string choice(const std::string& name) const;
@@ -78,6 +79,7 @@ class ParamSet {
   std::string format(const ParamSpec& spec) const;
 
  private:
+  const ParamSpec& declared(const std::string& name) const;  // throws for an undeclared name
   void check(const ParamSpec& s, double v) const;
   const std::vector<ParamSpec>* specs_ = nullptr;
   std::map<std::string, ParamValue> values_;

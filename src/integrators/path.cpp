@@ -1,6 +1,6 @@
 #include "integrators/path.h"
 
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -93,15 +93,19 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
   return L;
 }
 
-static const IntegratorRegistration registration({
-    "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
-    {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples"),
-     params::choice("lanes", "run paths 16 at a time in SIMD lanes where the CPU and the scene allow (AVX-512; RGB, independent "
-                    "samples; Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster",
-                    "on", {"on", "off"})},
-    [](const ParamSet& p, const RenderOptions& o) {
-      return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol",
-                                              p.choice("lanes") == "on", o.spectral);
-    }});
+IntegratorEntry pathEntry() {
+  return IntegratorEntry(
+      "path", "unidirectional path tracing with next-event estimation and MIS: the ground truth",
+      IntegratorFamily::Pixel, "spp",
+      {params::spp(), params::maxDepth(), params::sampler(PathIntegrator::kSobolSlots, "camera path", "the pixel's samples"),
+       params::choice("lanes", "run paths 16 at a time in SIMD lanes where the CPU and the scene allow (AVX-512; RGB, independent "
+                      "samples; Lambertian, mirror and glass surfaces, area lights): the same estimator and random numbers, faster. "
+                      "Debugging switch: the environment variable PHOTONLAB_LANES_ISA=avx512|baseline picks the kernel's copy",
+                      "on", {"on", "off"})},
+      [](const ParamSet& p, const RenderOptions& o) {
+        return std::make_unique<PathIntegrator>(int(p.integer("max_depth")), p.choice("sampler") == "sobol",
+                                                p.choice("lanes") == "on", o.spectral);
+      });
+}
 
 }  // namespace pl

@@ -18,7 +18,8 @@ namespace pl {
 // the same estimator with the same random numbers; elsewhere, and with lanes off, one at a time.
 class PathIntegrator final : public PixelIntegrator {
  public:
-  explicit PathIntegrator(int maxDepth, bool sobol = false, bool lanes = false, bool spectral = false)
+  // Every argument given: the defaults are the registry's declaration (path.cpp), nowhere else.
+  PathIntegrator(int maxDepth, bool sobol, bool lanes, bool spectral)
       : maxDepth_(maxDepth), sobol_(sobol), lanesWanted_(lanes && !sobol && !spectral) {}
   Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
   void LiPacket(CameraSample* samples, int n, const Scene& scene) const override;

@@ -1,6 +1,6 @@
 #include "integrators/photon.h"
 
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 #include "render/visible_probe.h"
 
 namespace pl {
@@ -192,10 +192,13 @@ std::string resolvePhotonDensity(const Scene& scene, int, int, ParamSet& p) {
 
 }  // namespace
 
-static const IntegratorRegistration registration({
-    "photon", "Jensen's two-pass photon mapping: global and caustic maps, final gathering",
-    photonParams(),
-    [](const ParamSet& p, const RenderOptions& image) { return std::make_unique<PhotonIntegrator>(photonOptions(p, image)); },
-    resolvePhotonDensity});
+IntegratorEntry photonEntry() {
+  return IntegratorEntry(
+      "photon", "Jensen's two-pass photon mapping: global and caustic maps, final gathering",
+      IntegratorFamily::Pixel, "spp",
+      photonParams(),
+      [](const ParamSet& p, const RenderOptions& image) { return std::make_unique<PhotonIntegrator>(photonOptions(p, image)); },
+      resolvePhotonDensity);
+}
 
 }  // namespace pl

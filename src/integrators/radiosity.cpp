@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/parallel.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -174,24 +174,28 @@ std::string resolvePatchSize(const Scene& scene, int, int, ParamSet& params) {
          std::to_string(budget) + ")";
 }
 
-const IntegratorRegistration registration({
-    "radiosity", "classic radiosity (Goral et al. 1984): diffuse patches, form factors by ray casting, Gauss-Seidel",
-    {params::spp(), patchSize(), patchBudget(), tolerance(), display(), patchesAov()},
-    [](const ParamSet& p, const RenderOptions& image) {
-      if (image.spectral) throw Error("radiosity solves in RGB; --spectral is not supported");
-      RadiosityOptions o;
-      o.patchSize = float(p.real("patch_size"));  // 0 when unresolved: from the budget in preprocess()
-      o.patchBudget = size_t(p.integer("patches"));
-      o.tolerance = p.real("tolerance");
-      const std::string d = p.choice("display");
-      o.display = d == "flat" ? RadiosityOptions::Display::Flat
-                  : d == "gather" ? RadiosityOptions::Display::Gather
-                                  : RadiosityOptions::Display::Smooth;
-      o.patchesAov = p.choice("aov") == "patches";
-      return std::make_unique<RadiosityIntegrator>(o);
-    },
-    resolvePatchSize});
-
 }  // namespace
+
+IntegratorEntry radiosityEntry() {
+  return IntegratorEntry(
+      "radiosity", "classic radiosity (Goral et al. 1984): diffuse patches, form factors by ray casting, Gauss-Seidel",
+      IntegratorFamily::Pixel, "spp",
+      {params::spp(), patchSize(), patchBudget(), tolerance(), display(), patchesAov()},
+      [](const ParamSet& p, const RenderOptions& image) {
+        if (image.spectral) throw Error("radiosity solves in RGB; --spectral is not supported");
+        RadiosityOptions o;
+        o.patchSize = float(p.real("patch_size"));  // 0 when unresolved: from the budget in preprocess()
+        o.patchBudget = size_t(p.integer("patches"));
+        o.tolerance = p.real("tolerance");
+        const std::string d = p.choice("display");
+        o.display = d == "flat" ? RadiosityOptions::Display::Flat
+                    : d == "gather" ? RadiosityOptions::Display::Gather
+                                    : RadiosityOptions::Display::Smooth;
+        o.patchesAov = p.choice("aov") == "patches";
+        return std::make_unique<RadiosityIntegrator>(o);
+      },
+      resolvePatchSize);
+}
+
 
 }  // namespace pl

@@ -1,17 +1,47 @@
 #include "integrators/registry.h"
 
+#include "integrators/builtins.h"
+
 #include <algorithm>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace pl {
 
 namespace {
 
-// Constructed on first use: registrations run during static initialisation, in an order the
-// language does not fix.
+void add(std::map<std::string, IntegratorEntry>& entries, IntegratorEntry entry) {
+  if (entries.count(entry.name)) throw Error("integrator '" + entry.name + "' is registered twice");
+  std::set<std::string> names;
+  int budgets = 0;
+  for (const ParamSpec& p : entry.params) {
+    if (!names.insert(p.name).second) throw Error("integrator " + entry.name + ": parameter '" + p.name + "' is declared twice");
+    budgets += p.budget;
+    if (!p.defaultValue.empty()) {
+      ParamSet probe(&entry.params);  // the default must pass its own validation
+      try {
+        probe.setText(p.name, p.defaultValue);
+      } catch (const Error& e) {
+        throw Error("integrator " + entry.name + ": the default of '" + p.name + "' is invalid: " + e.what());
+      }
+    }
+  }
+  if (budgets > 1) throw Error("integrator " + entry.name + ": more than one budget parameter");
+  if (!entry.sliceUnit.empty() && entry.sliceUnit != "spp" && entry.sliceUnit != "passes")
+    throw Error("integrator " + entry.name + ": slice unit '" + entry.sliceUnit + "' is neither spp nor passes");
+  std::string name = entry.name;
+  entries.emplace(std::move(name), std::move(entry));
+}
+
+// Constructed on first use, holding the built-ins from the start (registrations of other
+// integrators may run during static initialisation, in an order the language does not fix).
 std::map<std::string, IntegratorEntry>& table() {
-  static std::map<std::string, IntegratorEntry> entries;
+  static std::map<std::string, IntegratorEntry> entries = [] {
+    std::map<std::string, IntegratorEntry> builtins;
+    for (IntegratorEntry& e : builtinIntegrators()) add(builtins, std::move(e));
+    return builtins;
+  }();
   return entries;
 }
 
@@ -23,9 +53,30 @@ const ParamSpec* IntegratorEntry::budgetParam() const {
   return nullptr;
 }
 
-IntegratorRegistration::IntegratorRegistration(IntegratorEntry entry) {
-  std::string name = entry.name;
-  table().emplace(std::move(name), std::move(entry));
+const char* familyName(IntegratorFamily family) {
+  switch (family) {
+    case IntegratorFamily::Pixel: return "pixel";
+    case IntegratorFamily::Pass: return "pass";
+    case IntegratorFamily::LightPaths: return "light paths";
+    case IntegratorFamily::Own: return "own loop";
+  }
+  return "?";
+}
+
+IntegratorRegistration::IntegratorRegistration(IntegratorEntry entry) { add(table(), std::move(entry)); }
+
+std::string integratorsSlicedBy(const std::string& unit) {
+  std::string s;
+  for (auto* e : integrators())
+    if (e->sliceUnit == unit) s += (s.empty() ? "" : ", ") + e->name;
+  return s;
+}
+
+std::string integratorsOfFamily(IntegratorFamily family) {
+  std::string s;
+  for (auto* e : integrators())
+    if (e->family == family) s += (s.empty() ? "" : ", ") + e->name;
+  return s;
 }
 
 std::vector<const IntegratorEntry*> integrators() {
@@ -76,10 +127,17 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Render
   return e.make(e.defaults(), image);
 }
 
-std::string integratorsMarkdown() {
+std::string integratorMarkdown(const IntegratorEntry& entry) {
   std::ostringstream s;
-  for (auto* e : integrators()) {
+  {
+    const IntegratorEntry* e = &entry;
     s << "**`" << e->name << "`**: " << e->summary << ".\n\n";
+    static const char* const loops[] = {"the per-pixel loop", "passes of eye and photon paths", "the light-path loop",
+                                        "a loop of its own"};
+    s << "Driven by " << loops[int(e->family)] << "; "
+      << (e->sliceUnit.empty() ? "cannot be sliced"
+                               : std::string("sliced by ") + (e->sliceUnit == "spp" ? "`--sample-range`" : "`--pass-range`"))
+      << ".\n\n";
     s << "| parameter | type | default | valid | meaning |\n|---|---|---|---|---|\n";
     for (const ParamSpec& p : e->params) {
       const char* type = p.type == ParamType::Integer ? "integer" : p.type == ParamType::Real ? "real" : "choice";
@@ -91,6 +149,12 @@ std::string integratorsMarkdown() {
     s << "\n";
   }
   return s.str();
+}
+
+std::string integratorsMarkdown() {
+  std::string s;
+  for (auto* e : integrators()) s += integratorMarkdown(*e);
+  return s;
 }
 
 }  // namespace pl

@@ -1,12 +1,16 @@
-// The one list of integrators. Each registers itself in its own .cpp file:
+// The one list of integrators. Each built-in declares itself in its own .cpp file as a function
+// returning its entry, and integrators/builtins.cpp registers them all by name:
 //
-//   static const IntegratorRegistration reg({"path", "unidirectional path tracing ...",
-//       {params::spp(), params::maxDepth()},
-//       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PathIntegrator>(...); }});
+//   IntegratorEntry pathEntry() {
+//     return IntegratorEntry("path", "unidirectional path tracing ...", IntegratorFamily::Pixel, "spp",
+//         {params::spp(), params::maxDepth()},
+//         [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PathIntegrator>(...); });
+//   }
 //
 // Everything else (the CLI's flags and --help, the TOML keys and their validation, the
-// reference-cache fingerprint, the images' metadata, `photonlab integrators`, the documentation's reference page)
-// reads these entries. Adding an integrator is its own files plus one line in CMakeLists.txt.
+// reference-cache fingerprint, the images' metadata, `photonlab integrators`, the documentation's
+// reference page) reads these entries. Another integrator (a test's, a plugin's) registers itself
+// with a static IntegratorRegistration in its own file, linked directly.
 #pragma once
 #include <functional>
 #include <memory>
@@ -18,15 +22,29 @@
 
 namespace pl {
 
+// How an integrator is driven (render/integrator.h): by the shared per-pixel loop
+// (PixelIntegrator), by passes of eye and photon paths (PassIntegrator), by the light-path loop
+// (LightPathIntegrator), or by a render() of its own.
+enum class IntegratorFamily { Pixel, Pass, LightPaths, Own };
+const char* familyName(IntegratorFamily family);
+
 struct IntegratorEntry {
   using Factory = std::function<std::unique_ptr<Integrator>(const ParamSet&, const RenderOptions&)>;
   using Resolve = std::function<std::string(const Scene&, int width, int height, ParamSet&)>;
-  IntegratorEntry(std::string name, std::string summary, std::vector<ParamSpec> params, Factory make, Resolve resolve = {})
-      : name(std::move(name)), summary(std::move(summary)), params(std::move(params)), make(std::move(make)),
-        resolve(std::move(resolve)) {}
+  IntegratorEntry(std::string name, std::string summary, IntegratorFamily family, const char* sliceUnit,
+                  std::vector<ParamSpec> params, Factory make, Resolve resolve = {})
+      : name(std::move(name)), summary(std::move(summary)), family(family), sliceUnit(sliceUnit ? sliceUnit : ""),
+        params(std::move(params)), make(std::move(make)), resolve(std::move(resolve)) {}
 
   std::string name;
   std::string summary;  // one line
+  IntegratorFamily family;
+  // What `--sample-range` ("spp") or `--pass-range` ("passes") slices a render of it by, so
+  // that slices merge into the whole render bit for bit (RenderOptions::rangeBegin/End): "spp"
+  // where samples or iterations are independent estimates averaged with equal weights,
+  // "passes" for PPPM's independent passes; "" where slices would not add up (SPPM's per-pixel
+  // radii depend on every earlier pass; guiding's iterations on the ones before).
+  std::string sliceUnit;
   std::vector<ParamSpec> params;
   Factory make;
   // Optional: fills scene-dependent defaults into the parameters before rendering (so that the
@@ -40,10 +58,17 @@ struct IntegratorEntry {
   ParamSet defaults() const { return ParamSet(&params); }
 };
 
+// Adds an entry to the list; throws Error when the name is taken or the declaration is
+// inconsistent (two parameters of one name, a default outside its range, two budgets).
 class IntegratorRegistration {
  public:
   explicit IntegratorRegistration(IntegratorEntry entry);
 };
+
+// The integrators sliced by `unit` ("spp" or "passes"), as a list for messages.
+std::string integratorsSlicedBy(const std::string& unit);
+// The integrators of one family, as a list for messages.
+std::string integratorsOfFamily(IntegratorFamily family);
 
 // Sorted by name.
 std::vector<const IntegratorEntry*> integrators();
@@ -63,5 +88,6 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Render
 // Markdown: one table per integrator (parameter, type, default, range, meaning), the documentation's
 // Integrators reference (docs/pages/reference/integrators.md); a test checks the page against it.
 std::string integratorsMarkdown();
+std::string integratorMarkdown(const IntegratorEntry& entry);  // one of them
 
 }  // namespace pl

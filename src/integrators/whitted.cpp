@@ -1,6 +1,6 @@
 #include "integrators/whitted.h"
 
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -33,9 +33,12 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
   return T * L;
 }
 
-static const IntegratorRegistration registration({
-    "whitted", "Whitted ray tracing: shadow rays at diffuse surfaces, recursion along every specular lobe",
-    {params::spp(), params::maxDepth()},
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<WhittedIntegrator>(int(p.integer("max_depth"))); }});
+IntegratorEntry whittedEntry() {
+  return IntegratorEntry(
+      "whitted", "Whitted ray tracing: shadow rays at diffuse surfaces, recursion along every specular lobe",
+      IntegratorFamily::Pixel, "spp",
+      {params::spp(), params::maxDepth()},
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<WhittedIntegrator>(int(p.integer("max_depth"))); });
+}
 
 }  // namespace pl

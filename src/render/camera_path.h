@@ -1,7 +1,7 @@
 // The start of every camera path, written once: the random stream keyed by (seed, pixel,
 // sample or pass), the camera ray through a jittered point of the pixel, and the path's
 // wavelengths (spectral mode). Both loops that start camera paths use it: the per-pixel loop
-// (render/renderer.cpp) and the progressive eye passes (progressive/progressive.h).
+// (render/renderer.cpp) and the progressive eye passes (integrators/progressive.h).
 #pragma once
 #include "core/rng.h"
 #include "core/sampler.h"

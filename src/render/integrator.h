@@ -2,7 +2,7 @@
 // pbrt-v4's Integrator::Render). Three shared loops hold the parts every algorithm repeats (keyed
 // random streams, camera samples, wavelengths, budget, checkpoints, the film):
 //   PixelIntegrator  camera-side, one radiance estimate Li per pixel sample (render/renderer.h);
-//   PassIntegrator   eye passes and photon passes alternating (progressive/progressive.h);
+//   PassIntegrator   eye passes and photon passes alternating (integrators/progressive.h);
 //   light-side       light paths splatted onto the film (render/light_loop.h).
 // Each integrator registers itself, with its parameters, in its own file (integrators/registry.h).
 #pragma once
@@ -40,11 +40,6 @@ class Integrator {
   virtual std::vector<std::string> notes() const { return {}; }
   // Images beside the radiance, after render().
   virtual std::vector<NamedImage> extraImages() const { return {}; }
-  // The unit a render can be sliced in (RenderOptions::rangeBegin/End): "spp" for integrators
-  // whose samples are independent estimates averaged with equal weights, "passes" for PPPM's
-  // independent passes; nullptr when slices would not add up (SPPM's per-pixel radii depend on
-  // every earlier pass).
-  virtual const char* sliceUnit() const { return nullptr; }
 };
 
 // Camera-side integrators: the pixel value is the mean of Li over the pixel's samples.
@@ -79,7 +74,6 @@ class PixelIntegrator : public Integrator {
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
-  const char* sliceUnit() const override { return "spp"; }
 };
 
 // What a light path is traced with: its wavelengths, its random stream, and the film it splats
@@ -106,7 +100,6 @@ class LightPathIntegrator : public Integrator {
   virtual void preprocess(const Scene& scene, uint64_t seed, int threads, const Budget& budget) {}
   virtual void traceLightPath(const Scene& scene, LightPathContext& path) const = 0;
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // render/light_loop.cpp
-  const char* sliceUnit() const override { return "spp"; }
 };
 
 // Power heuristic with β = 2.

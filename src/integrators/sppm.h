@@ -1,5 +1,5 @@
 #pragma once
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 
 namespace pl {
 

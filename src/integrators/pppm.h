@@ -1,5 +1,5 @@
 #pragma once
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 
 namespace pl {
 
@@ -13,7 +13,6 @@ class PPPMIntegrator final : public PassIntegrator {
   using PassIntegrator::PassIntegrator;
   ImageRGB render(const Scene& scene, const RenderOptions& image, RenderInfo* info) override;
   const char* name() const override { return "pppm"; }
-  const char* sliceUnit() const override { return "passes"; }
 };
 
 }  // namespace pl

@@ -1,7 +1,7 @@
-#include "progressive/pppm.h"
+#include "integrators/pppm.h"
 
 #include "core/parallel.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -73,10 +73,13 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   return result;
 }
 
-static const IntegratorRegistration registration({
-    "pppm", "probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes, global radius schedule",
-    progressiveParams(),
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPPMIntegrator>(progressiveOptions(p)); },
-    resolveProgressiveRadius});
+IntegratorEntry pppmEntry() {
+  return IntegratorEntry(
+      "pppm", "probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes, global radius schedule",
+      IntegratorFamily::Pass, "passes",
+      progressiveParams(),
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPPMIntegrator>(progressiveOptions(p)); },
+      resolveProgressiveRadius);
+}
 
 }  // namespace pl

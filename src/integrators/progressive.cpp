@@ -1,4 +1,4 @@
-#include "progressive/progressive.h"
+#include "integrators/progressive.h"
 
 #include "core/memory.h"
 #include "core/parallel.h"

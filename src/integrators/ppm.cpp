@@ -1,7 +1,7 @@
-#include "progressive/ppm.h"
+#include "integrators/ppm.h"
 
 #include "core/parallel.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -57,10 +57,13 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
   return runPasses(setup, o, info, pass, image, [&] { return meanRadius(stats); });
 }
 
-static const IntegratorRegistration registration({
-    "ppm", "progressive photon mapping (Hachisuka et al. 2008): fixed hit points, shrinking radii",
-    progressiveParams(),
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPMIntegrator>(progressiveOptions(p)); },
-    resolveProgressiveRadius});
+IntegratorEntry ppmEntry() {
+  return IntegratorEntry(
+      "ppm", "progressive photon mapping (Hachisuka et al. 2008): fixed hit points, shrinking radii",
+      IntegratorFamily::Pass, nullptr,
+      progressiveParams(),
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPMIntegrator>(progressiveOptions(p)); },
+      resolveProgressiveRadius);
+}
 
 }  // namespace pl

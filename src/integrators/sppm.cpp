@@ -1,7 +1,7 @@
-#include "progressive/sppm.h"
+#include "integrators/sppm.h"
 
 #include "core/parallel.h"
-#include "integrators/registry.h"
+#include "integrators/builtins.h"
 
 namespace pl {
 
@@ -71,10 +71,13 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   return runPasses(setup, o, info, pass, image, [&] { return meanRadius(stats); });
 }
 
-static const IntegratorRegistration registration({
-    "sppm", "stochastic progressive photon mapping (Hachisuka & Jensen 2009): new visible points every pass",
-    progressiveParams(),
-    [](const ParamSet& p, const RenderOptions&) { return std::make_unique<SPPMIntegrator>(progressiveOptions(p)); },
-    resolveProgressiveRadius});
+IntegratorEntry sppmEntry() {
+  return IntegratorEntry(
+      "sppm", "stochastic progressive photon mapping (Hachisuka & Jensen 2009): new visible points every pass",
+      IntegratorFamily::Pass, nullptr,
+      progressiveParams(),
+      [](const ParamSet& p, const RenderOptions&) { return std::make_unique<SPPMIntegrator>(progressiveOptions(p)); },
+      resolveProgressiveRadius);
+}
 
 }  // namespace pl
