@@ -57,6 +57,15 @@ def test_generated_reference_pages_match_the_program():
     assert r.returncode == 0, r.stderr
 
 
+def test_generated_pages_hold_no_stray_html():
+    # Text such as OUT.s<S>t<T>.ext must not become a tag (<s> is a strikethrough) outside code.
+    for name in ["cli.md", "integrators.md", "experiment-keys.md", "metadata.md"]:
+        text = open(os.path.join(ROOT, "docs", "pages", "reference", name), encoding="utf-8").read()
+        text = re.sub(r"<!--.*?-->", "", text, flags=re.S)
+        outside_code = re.sub(r"`[^`]*`", "", text)
+        assert not re.search(r"<[A-Za-z/]", outside_code), f"{name}: {re.search(r'.{30}<[A-Za-z/].{30}', outside_code)}"
+
+
 def test_every_flag_and_key_is_in_the_reference():
     cli = open(os.path.join(ROOT, "docs", "pages", "reference", "cli.md"), encoding="utf-8").read()
     for sub in ["render", "info", "compare", "merge", "run", "bench", "integrators", "reference"]:

@@ -143,8 +143,15 @@ std::string integratorMarkdown(const IntegratorEntry& entry) {
       const char* type = p.type == ParamType::Integer ? "integer" : p.type == ParamType::Real ? "real" : "choice";
       std::string def = !p.defaultDoc.empty() ? p.defaultDoc : "`" + p.defaultValue + "`";
       if (p.budget) def += " (unlimited with `time` alone)";
+      // Angle brackets outside code spans as text: "OUT.s<S>t<T>.ext" is not HTML.
+      std::string doc;
+      bool code = false;
+      for (char c : p.doc) {
+        code = code != (c == '`');
+        doc += !code && c == '<' ? "&lt;" : !code && c == '>' ? "&gt;" : std::string(1, c);
+      }
       s << "| `" << p.name << "` (`" << p.flag() << "`) | " << type << " | " << def << " | " << p.range() << " | "
-        << p.doc << " |\n";
+        << doc << " |\n";
     }
     s << "\n";
   }
