@@ -88,10 +88,15 @@ struct Counts {
 PL_HOT_INLINE void intersect(const Paths& P, const Context& c, RTCIntersectContext* rtcContext, RTCRayHit16* rh, int32_t* valid,
                              Counts* counts) {
   const Vec3s o = load3(P.ox, P.oy, P.oz), d = load3(P.dx, P.dy, P.dz);
-  store(valid, load(P.alive) & embreeValid(o, d));
-  store(rh->ray.org_x, o.x), store(rh->ray.org_y, o.y), store(rh->ray.org_z, o.z);
-  store(rh->ray.dir_x, d.x), store(rh->ray.dir_y, d.y), store(rh->ray.dir_z, d.z);
-  store(rh->ray.tnear, load(P.tmin)), store(rh->ray.tfar, load(P.tmax)), store(rh->ray.time, Floats{});
+  const Ints on = load(P.alive) & embreeValid(o, d);
+  store(valid, on);
+  // Lanes not traced get a finite ray with tfar < tnear: on CPUs without AVX-512, Embree splits
+  // the packet in two of 8 and asserts that every lane it deems active (tnear <= tfar) is
+  // finite, whatever the valid mask says; a finished path's lane may hold anything.
+  store(rh->ray.org_x, on ? o.x : Floats{}), store(rh->ray.org_y, on ? o.y : Floats{}), store(rh->ray.org_z, on ? o.z : Floats{});
+  store(rh->ray.dir_x, on ? d.x : Floats{}), store(rh->ray.dir_y, on ? d.y : Floats{}), store(rh->ray.dir_z, on ? d.z : splat(1.0f));
+  store(rh->ray.tnear, on ? load(P.tmin) : Floats{}), store(rh->ray.tfar, on ? load(P.tmax) : splat(-INFINITY));
+  store(rh->ray.time, Floats{});
   for (int k = 0; k < kLanes; ++k)
     rh->ray.mask[k] = 0xFFFFFFFFu, rh->ray.id[k] = 0, rh->ray.flags[k] = 0, rh->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
   int rays = 0;
@@ -218,12 +223,16 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
     const Floats length = sqrt(dot(toTarget, toTarget));
     const Ints nearby = length <= 2 * c.eps;  // visible without a ray
     alignas(64) int32_t shadowValid[kLanes];
-    store(shadowValid, tried & ~nearby);
+    const Ints casts = tried & ~nearby;
+    store(shadowValid, casts);
     alignas(64) RTCRay16 shadow;
     const Vec3s dir = (1.0f / length) * toTarget;
-    store(shadow.org_x, origin.x), store(shadow.org_y, origin.y), store(shadow.org_z, origin.z);
-    store(shadow.dir_x, dir.x), store(shadow.dir_y, dir.y), store(shadow.dir_z, dir.z);
-    store(shadow.tnear, Floats{}), store(shadow.tfar, length - c.eps), store(shadow.time, Floats{});
+    // Lanes without a shadow ray get a finite one with tfar < tnear (see intersect()).
+    store(shadow.org_x, casts ? origin.x : Floats{}), store(shadow.org_y, casts ? origin.y : Floats{});
+    store(shadow.org_z, casts ? origin.z : Floats{});
+    store(shadow.dir_x, casts ? dir.x : Floats{}), store(shadow.dir_y, casts ? dir.y : Floats{});
+    store(shadow.dir_z, casts ? dir.z : splat(1.0f));
+    store(shadow.tnear, Floats{}), store(shadow.tfar, casts ? length - c.eps : splat(-INFINITY)), store(shadow.time, Floats{});
     for (int k = 0; k < kLanes; ++k) shadow.mask[k] = 0xFFFFFFFFu, shadow.id[k] = 0, shadow.flags[k] = 0;
     int shadowRays = 0;
     for (int k = 0; k < kLanes; ++k) shadowRays += shadowValid[k] != 0;

@@ -465,7 +465,12 @@ void Scene::intersect(const Ray* rays, const bool* active, bool coherent, Surfac
   if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   RTCRayHit8 rh;
   for (int k = 0; k < kPacket; ++k) {
-    if (!valid[k]) continue;
+    // An inactive lane gets a finite ray with tfar < tnear, not uninitialised values: Embree
+    // checks the lanes it deems active by their rays as well as by the mask.
+    if (!valid[k]) {
+      fillLane(rh.ray, k, Ray{Vec3(0.0f), Vec3(0.0f, 0.0f, 1.0f), 0.0f, -INFINITY});
+      continue;
+    }
     fillLane(rh.ray, k, rays[k]);
     rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
