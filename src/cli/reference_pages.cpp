@@ -66,7 +66,11 @@ std::string cliPage(CLI::App& app) {
       std::string name = positional ? o->get_name(true) : o->get_name(false, true);
       std::string value = o->get_type_name();
       if (o->get_items_expected_max() == 0) value = "(flag)";
+      // Defaults inside the source tree (bench's scenes) relative to it: the page is the same in
+      // every checkout.
       std::string def = o->get_default_str();
+      const std::string root = std::string(PHOTONLAB_SOURCE_DIR) + "/";
+      if (def.compare(0, root.size(), root) == 0) def = def.substr(root.size());
       s << "| `" << cell(name) << "`" << (o->get_required() ? " (required)" : "") << " | " << cell(value) << " | "
         << (def.empty() ? " " : "`" + cell(def) + "`") << " | " << cell(o->get_description()) << " |\n";
     }
