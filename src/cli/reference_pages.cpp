@@ -22,17 +22,12 @@ std::string generatedNote(const std::string& page) {
   return buf;
 }
 
-// A Markdown table cell: no line breaks, '|' escaped, and angle brackets outside code spans as
-// text (not HTML).
+// A Markdown table cell: markdownText's escapes, no line breaks, and '|' escaped.
 std::string cell(const std::string& text) {
   std::string s;
-  bool code = false;
-  for (char c : text) {
-    code = code != (c == '`');
+  for (char c : markdownText(text)) {
     if (c == '\n') s += ' ';
     else if (c == '|') s += "\\|";
-    else if (!code && c == '<') s += "&lt;";
-    else if (!code && c == '>') s += "&gt;";
     else s += c;
   }
   return s.empty() ? " " : s;

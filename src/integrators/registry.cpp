@@ -143,19 +143,22 @@ std::string integratorMarkdown(const IntegratorEntry& entry) {
       const char* type = p.type == ParamType::Integer ? "integer" : p.type == ParamType::Real ? "real" : "choice";
       std::string def = !p.defaultDoc.empty() ? p.defaultDoc : "`" + p.defaultValue + "`";
       if (p.budget) def += " (unlimited with `time` alone)";
-      // Angle brackets outside code spans as text: "OUT.s<S>t<T>.ext" is not HTML.
-      std::string doc;
-      bool code = false;
-      for (char c : p.doc) {
-        code = code != (c == '`');
-        doc += !code && c == '<' ? "&lt;" : !code && c == '>' ? "&gt;" : std::string(1, c);
-      }
       s << "| `" << p.name << "` (`" << p.flag() << "`) | " << type << " | " << def << " | " << p.range() << " | "
-        << doc << " |\n";
+        << markdownText(p.doc) << " |\n";
     }
     s << "\n";
   }
   return s.str();
+}
+
+std::string markdownText(const std::string& text) {
+  std::string s;
+  bool code = false;
+  for (char c : text) {
+    code = code != (c == '`');
+    s += !code && c == '<' ? "&lt;" : !code && c == '>' ? "&gt;" : std::string(1, c);
+  }
+  return s;
 }
 
 std::string integratorsMarkdown() {

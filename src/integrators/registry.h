@@ -89,5 +89,8 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Render
 // Integrators reference (docs/pages/reference/integrators.md); a test checks the page against it.
 std::string integratorsMarkdown();
 std::string integratorMarkdown(const IntegratorEntry& entry);  // one of them
+// Text for a Markdown page: angle brackets outside `code spans` escaped, so that a placeholder
+// such as OUT.s<S>t<T>.ext is not read as an HTML tag (the documentation's generated pages).
+std::string markdownText(const std::string& text);
 
 }  // namespace pl
