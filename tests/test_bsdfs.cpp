@@ -90,6 +90,7 @@ TEST_CASE("BSDF sampling matches its pdf (chi-square)") {
 TEST_CASE("a wrong pdf fails the chi-square test") {
   // Guard against a test that cannot fail: Phong whose pdf claims a different exponent.
   struct Liar final : BSDF {
+    Liar() : BSDF(kGlossyReflection) {}
     Phong sampler{Spectrum(0), Spectrum(1), 20}, claimed{Spectrum(0), Spectrum(1), 26};
     Spectrum eval(const Vec3& o, const Vec3& i, const BSDFContext& c) const override { return sampler.eval(o, i, c); }
     float pdf(const Vec3& o, const Vec3& i, const BSDFContext& c) const override { return claimed.pdf(o, i, c); }
@@ -327,7 +328,7 @@ TEST_CASE("metallic-roughness thin-walled transmission: the layer's lobe mirrore
   const float roughness = 0.5f;
   const double alpha = roughness * roughness;
   MetallicRoughness wall(ColorTexture(Spectrum(1.0f)), ColorTexture(Spectrum(1, roughness, 0)), ColorTexture(Spectrum(1.0f)));
-  CHECK(wall.transmits());
+  CHECK(hasSmoothTransmission(wall.flags()));
   Rng rng(12, 12);
   const int N = 400000;
   for (float mu : {0.9f, 0.5f, 0.2f}) {
@@ -362,7 +363,7 @@ TEST_CASE("metallic-roughness thin-walled transmission: the layer's lobe mirrore
   CHECK(transmitted / N == Approx(0.4 * 0.5 * (lobeAlbedo(1.0, alpha, false) - lobeAlbedo(1.0, alpha, true))).epsilon(0.02));
   // Without transmission nothing passes.
   MetallicRoughness opaque(ColorTexture(Spectrum(1.0f)), ColorTexture(Spectrum(1, roughness, 0)));
-  CHECK_FALSE(opaque.transmits());
+  CHECK_FALSE(hasSmoothTransmission(opaque.flags()));
   CHECK(isBlack(opaque.eval(Vec3(0, 0, 1), Vec3(0.3f, 0, -0.95f), Vec2(0))));
 }
 
@@ -395,4 +396,71 @@ TEST_CASE("thin dielectric: reflects with Schlick's F - passes the rest straight
     INFO("cosθo " << cosO);
     CHECK(std::abs(double(reflected) / N - P) < 5 * std::sqrt(P * (1 - P) / N));
   }
+}
+
+TEST_CASE("BSDF flags name every kind of lobe sample() finds - and no other") {
+  std::vector<Case> cases = smoothBsdfs(0.8f);
+  cases.push_back({"mirror", std::make_shared<Mirror>(ColorTexture(Spectrum(0.9f)))});
+  cases.push_back({"dielectric", std::make_shared<Dielectric>(1.5f)});
+  cases.push_back({"thin dielectric", std::make_shared<ThinDielectric>(ColorTexture(Spectrum(0.7f)), 1.5f)});
+  Rng rng(21, 21);
+  for (auto& c : cases) {
+    INFO(c.name);
+    const BSDFFlags flags = c.bsdf->flags();
+    uint8_t found = 0;
+    bool evalSeesSomething = false;
+    for (int i = 0; i < 20000; ++i) {
+      const Vec3 wo = sampleUniformSphere(Vec2(rng.uniform(), rng.uniform()));
+      BSDFSample s;
+      if (!c.bsdf->sample(wo, BSDFContext(Vec2(0)), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) continue;
+      const bool reflects = s.wi.z * wo.z > 0;
+      if (s.delta) found |= reflects ? kSpecularReflection : kSpecularTransmission;
+      else found |= reflects ? (kDiffuseReflection | kGlossyReflection) : (kDiffuseTransmission | kGlossyTransmission);
+      if (!s.delta && maxComponent(c.bsdf->eval(wo, s.wi, BSDFContext(Vec2(0)))) > 0) evalSeesSomething = true;
+    }
+    // Each kind found is declared; each side declared is found (diffuse and glossy look alike here).
+    CHECK((found & kSpecular) == (flags & kSpecular));
+    CHECK(bool(found & (kDiffuseReflection | kGlossyReflection)) == bool(flags & (kDiffuseReflection | kGlossyReflection)));
+    CHECK(bool(found & (kDiffuseTransmission | kGlossyTransmission)) == hasSmoothTransmission(flags));
+    CHECK(c.bsdf->isSpecular() == !evalSeesSomething);
+  }
+}
+
+TEST_CASE("specularLobe: each lobe's weight times its probability is its closed-form share") {
+  const BSDFContext radiance(Vec2(0));
+  // Mirror, F0 = 0.9: Schlick at cosθ; no transmission lobe.
+  Mirror mirror(ColorTexture(Spectrum(0.9f)));
+  BSDFSample s;
+  const Vec3 wo = direction(0.6f, 0.3f);
+  REQUIRE(mirror.specularLobe(wo, radiance, kSpecularReflection, &s));
+  CHECK((s.weight * s.pdf).g == Approx(0.9 + 0.1 * std::pow(0.4, 5)).epsilon(1e-5));
+  CHECK_FALSE(mirror.specularLobe(wo, radiance, kSpecularTransmission, &s));
+  // Glass η = 1.5 from outside: F by the exact Fresnel equations, (1 − F)/η² through (radiance).
+  Dielectric glass(1.5f);
+  const double F = fresnelDielectric(0.6f, 1.5f);
+  REQUIRE(glass.specularLobe(wo, radiance, kSpecularReflection, &s));
+  CHECK((s.weight * s.pdf).g == Approx(F).epsilon(1e-5));
+  CHECK(s.wi.z == Approx(0.6f));
+  REQUIRE(glass.specularLobe(wo, radiance, kSpecularTransmission, &s));
+  CHECK((s.weight * s.pdf).g == Approx((1 - F) / 2.25).epsilon(1e-5));
+  CHECK(s.wi.z < 0);
+  // From inside past the critical angle (sinθ > 1/1.5): total internal reflection, no refraction.
+  const Vec3 inside = direction(-0.3f, 1.0f);
+  REQUIRE(glass.specularLobe(inside, radiance, kSpecularReflection, &s));
+  CHECK((s.weight * s.pdf).g == Approx(1.0f));
+  CHECK_FALSE(glass.specularLobe(inside, radiance, kSpecularTransmission, &s));
+  // Thin pane, T = 0.7: Schlick F with F0 = 0.04, (1 − F) T straight through; with T = 0 the
+  // transmission lobe has probability zero and is not returned.
+  ThinDielectric pane(ColorTexture(Spectrum(0.7f)), 1.5f);
+  const double Fs = 0.04 + 0.96 * std::pow(0.4, 5);
+  REQUIRE(pane.specularLobe(wo, radiance, kSpecularReflection, &s));
+  CHECK((s.weight * s.pdf).g == Approx(Fs).epsilon(1e-5));
+  REQUIRE(pane.specularLobe(wo, radiance, kSpecularTransmission, &s));
+  CHECK((s.weight * s.pdf).g == Approx((1 - Fs) * 0.7).epsilon(1e-5));
+  CHECK(glm::length(s.wi + wo) < 1e-6f);
+  ThinDielectric opaque(ColorTexture(Spectrum(0.0f)), 1.5f);
+  CHECK_FALSE(opaque.specularLobe(wo, radiance, kSpecularTransmission, &s));
+  // A BSDF without specular lobes has none to give.
+  Lambertian diffuse(ColorTexture(Spectrum(0.5f)));
+  CHECK_FALSE(diffuse.specularLobe(wo, radiance, kSpecularReflection, &s));
 }

@@ -6,6 +6,7 @@
 #include "core/rng.h"
 #include "lights/area_light.h"
 #include "lights/directional_light.h"
+#include "lights/environment_light.h"
 #include "lights/point_light.h"
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
@@ -172,4 +173,43 @@ TEST_CASE("directional light: irradiance E - power through the scene's disc") {
   DirectionalLight byPower(Vec3(0, -1, 0), Spectrum(1.0f), 10.0f);
   byPower.preprocess(Vec3(0), 2.0f);
   CHECK(byPower.power().g == Approx(10.0f));
+}
+
+TEST_CASE("light types: what each light says it is, its emission and its densities show") {
+  auto env = EnvironmentLight::constant(Spectrum(0.5f));
+  env->preprocess(Vec3(0), 2.0f);
+  DirectionalLight sun(Vec3(0, -1, 0), Spectrum(5.0f));
+  sun.preprocess(Vec3(0), 2.0f);
+  PointLight point(Vec3(0, 2, 0), Spectrum(3.0f));
+  SpotLight spot(Vec3(0, 2, 0), Vec3(0, -1, 0), Spectrum(3.0f), 0.3f, 0.6f);
+  WarnSpotlight warn(Vec3(0, 2, 0), Vec3(0, -1, 0), Spectrum(1.0f), 4.0f);
+  AreaLight area(Vec3(-1, 2, -1), Vec3(1, 2, -1), Vec3(-1, 2, 1), Spectrum(2.0f), false);
+  const std::vector<std::pair<const Light*, LightType>> lights = {
+      {env.get(), LightType::kInfinite},   {&sun, LightType::kDeltaDirection}, {&point, LightType::kDeltaPosition},
+      {&spot, LightType::kDeltaPosition}, {&warn, LightType::kDeltaPosition}, {&area, LightType::kArea}};
+  Rng rng(5, 5);
+  for (const auto& [light, type] : lights) {
+    INFO(light->name());
+    REQUIRE(light->type() == type);
+    // Emitted rays: one origin for a delta position, one direction for a delta direction, origins
+    // and directions with densities otherwise.
+    Vec3 origin0(0.0f), direction0(0.0f);
+    bool oneOrigin = true, oneDirection = true;
+    for (int i = 0; i < 64; ++i) {
+      const EmittedRay e = light->sampleLe(Vec2(rng.uniform(), rng.uniform()), Vec2(rng.uniform(), rng.uniform()), SampledWavelengths::rgb());
+      if (i == 0) origin0 = e.ray.o, direction0 = e.ray.d;
+      oneOrigin &= glm::length(e.ray.o - origin0) < 1e-5f;
+      oneDirection &= glm::length(e.ray.d - direction0) < 1e-5f;
+    }
+    CHECK(oneOrigin == (type == LightType::kDeltaPosition));
+    CHECK(oneDirection == (type == LightType::kDeltaDirection));
+    // A ray can find it (radiance L > 0 and a solid-angle density) only where it is not a delta.
+    LightSample ls;
+    const Vec3 p(0.2f, 0.0f, 0.1f);
+    REQUIRE(light->sampleLi(p, Vec2(0.3f, 0.6f), SampledWavelengths::rgb(), &ls));
+    const Vec3 y = p + ls.wi * std::min(ls.distance, 10.0f);
+    const bool found = light->pdfLi(p, y) > 0 && maxComponent(light->L(y, -ls.wi, SampledWavelengths::rgb())) > 0;
+    CHECK(found == !light->isDelta());
+    CHECK(std::isinf(ls.distance) == (type == LightType::kInfinite || type == LightType::kDeltaDirection));
+  }
 }

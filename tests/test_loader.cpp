@@ -125,11 +125,11 @@ TEST_CASE("loader: material mapping and KHR_materials_* defaults") {
   CHECK_FALSE(m[0].absorbs());
   CHECK(scene->hasAbsorbingVolumes());
   CHECK(std::string(m[4].bsdf->name()) == "metallic-roughness, thin-walled transmission");  // glTF's roughness 1
-  CHECK(m[4].bsdf->transmits());
+  CHECK(hasSmoothTransmission(m[4].bsdf->flags()));
   CHECK(std::string(m[5].bsdf->name()) == "phong");
   CHECK(std::string(m[7].bsdf->name()) == "lambertian");
   CHECK(std::string(m[8].bsdf->name()) == "metallic-roughness");
-  CHECK_FALSE(m[8].bsdf->transmits());
+  CHECK_FALSE(hasSmoothTransmission(m[8].bsdf->flags()));
   CHECK(std::string(m[9].bsdf->name()) == "thin dielectric");  // the delta limit
   CHECK(std::string(m[10].bsdf->name()) == "metallic-roughness, thin-walled transmission");
   // The Lambertian marker is only for diffuse materials; anything else is an error naming it.

@@ -53,6 +53,7 @@ std::string readBytes(const std::string& path) {
 // A BSDF whose every value is NaN: a stand-in for a buggy or numerically broken material.
 class NaNBSDF : public BSDF {
  public:
+  NaNBSDF() : BSDF(kDiffuseReflection) {}
   Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(NAN); }
   float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return NAN; }
   bool sample(const Vec3&, const BSDFContext&, const Vec2& u, float, BSDFSample* s) const override {

@@ -25,14 +25,14 @@ std::string leastPathLoopUnsupported(const Scene& scene) {
   if (scene.environment()) return "an environment light";
   if (scene.hasAbsorbingVolumes()) return "an absorbing volume";
   for (const auto& light : scene.lights())
-    if (std::string(light->name()) != "area") return std::string("a ") + light->name() + " light";
+    if (light->type() != LightType::kArea) return std::string("a ") + light->name() + " light";
   // The materials triangles use (the loader keeps a default one that may have none).
   std::vector<bool> used(scene.materials().size(), false);
   for (uint32_t t = 0; t < scene.triangleCount(); ++t) used[scene.triangleMaterial(t)] = true;
   for (size_t i = 0; i < used.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = scene.materials()[i];
-    if (!m.bsdf || !m.bsdf->isLambertian()) return "material '" + m.name + "' is not Lambertian";
+    if (!m.bsdf || m.bsdf->bsdfClass() != BSDFClass::kLambertian) return "material '" + m.name + "' is not Lambertian";
     if (!static_cast<const Lambertian&>(*m.bsdf).albedo().isConstant()) return "material '" + m.name + "' is textured";
     if (m.normalMap || m.alpha || m.alphaMode != AlphaMode::Opaque) return "material '" + m.name + "' has a normal map or alpha";
     if (m.emissionTexture || (m.twoSided && m.emission != Spectrum(0.0f))) return "material '" + m.name + "' emits from a texture or both faces";

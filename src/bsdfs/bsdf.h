@@ -40,6 +40,35 @@ struct BSDFSample {
   bool terminatesSecondary = false;
 };
 
+// What a BSDF's lobes are, one bit per kind of lobe (Mitsuba 3's BSDFFlags; pbrt-v4's BxDFFlags
+// as a union): integrators ask these instead of probing sample() or testing the class.
+enum BSDFFlags : uint8_t {
+  kNoLobe = 0,
+  kDiffuseReflection = 1 << 0,
+  kGlossyReflection = 1 << 1,
+  kSpecularReflection = 1 << 2,  // a Dirac delta: only sample() finds it
+  kDiffuseTransmission = 1 << 3,
+  kGlossyTransmission = 1 << 4,
+  kSpecularTransmission = 1 << 5,
+  kReflection = kDiffuseReflection | kGlossyReflection | kSpecularReflection,
+  kTransmission = kDiffuseTransmission | kGlossyTransmission | kSpecularTransmission,
+  kSpecular = kSpecularReflection | kSpecularTransmission,
+  kSmooth = kDiffuseReflection | kGlossyReflection | kDiffuseTransmission | kGlossyTransmission,  // eval() sees them
+};
+constexpr BSDFFlags operator|(BSDFFlags a, BSDFFlags b) { return BSDFFlags(uint8_t(a) | uint8_t(b)); }
+// Every lobe a Dirac delta (mirror, smooth glass): eval and pdf are zero, no light sample can
+// be weighed against it, and density estimation there is meaningless.
+constexpr bool isSpecular(BSDFFlags f) { return f != kNoLobe && (f & kSmooth) == 0; }
+// A lobe eval() sees that transmits (wo and wi on opposite sides: a thin translucent wall):
+// estimators that gather light on one side of a surface (photon density estimation) then gather
+// it from both.
+constexpr bool hasSmoothTransmission(BSDFFlags f) { return (f & (kDiffuseTransmission | kGlossyTransmission)) != 0; }
+
+// The few classes that accelerators specialise on (pbrt-v4 dispatches on a TaggedPointer's tag
+// the same way): the path tracer's SIMD lanes, the photon tracer's inlined diffuse bounce and
+// radiosity read them; every other BSDF is kOther, and integrators use the flags alone.
+enum class BSDFClass : uint8_t { kOther, kLambertian, kMirror, kDielectric };
+
 // f(wo, wi) with the solid-angle densities of sampling wi from wo (pdf) and wo from wi
 // (pdfReverse; zero unless asked for): BSDF::evaluate.
 struct BSDFEval {
@@ -65,20 +94,23 @@ class BSDF {
   }
   // u: 2D sample for the direction, uc: 1D sample for choosing a lobe.
   virtual bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const = 0;
-  // True when every lobe is a Dirac delta (mirror, smooth glass): eval and pdf are zero, only
-  // sample() can find the reflected/refracted direction.
-  virtual bool isDelta() const { return false; }
-  // True when a non-delta lobe transmits (wo and wi on opposite sides: a thin translucent wall).
-  // Estimators that gather light on one side of a surface (photon density estimation) then
-  // gather it from both.
-  virtual bool transmits() const { return false; }
+  // A specular BSDF's lobe `lobe` (kSpecularReflection or kSpecularTransmission) at wo: what
+  // sample() returns when it picks that lobe, so that weight·pdf is the lobe's whole
+  // contribution (Whitted's recursion follows every lobe). False when the BSDF has no such lobe
+  // or it has probability zero at wo (total internal reflection).
+  virtual bool specularLobe(const Vec3& wo, const BSDFContext& c, BSDFFlags lobe, BSDFSample* s) const { return false; }
   virtual const char* name() const = 0;
-  // Set only by Lambertian (a non-virtual tag, as pbrt-v4 tags its BxDFs): lets the photon
-  // tracer, where most hits are diffuse, call Lambertian::sample directly and inline it.
-  bool isLambertian() const { return lambertian_; }
+  BSDFFlags flags() const { return flags_; }
+  bool isSpecular() const { return pl::isSpecular(flags_); }
+  BSDFClass bsdfClass() const { return class_; }
 
  protected:
-  bool lambertian_ = false;
+  explicit BSDF(BSDFFlags flags, BSDFClass bsdfClass = BSDFClass::kOther) : flags_(flags), class_(bsdfClass) {}
+
+ private:
+  // Fixed at construction, read without a virtual call on every bounce.
+  BSDFFlags flags_;
+  BSDFClass class_;
 };
 
 // Veach's adjoint correction for shading normals (Veach 1997, §5.3; pbrt-v3 §16.1): a BSDF

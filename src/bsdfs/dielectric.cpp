@@ -5,7 +5,8 @@
 
 namespace pl {
 
-Dielectric::Dielectric(float eta, float abbe) : eta_(eta), abbe_(abbe) {
+Dielectric::Dielectric(float eta, float abbe)
+    : BSDF(kSpecularReflection | kSpecularTransmission, BSDFClass::kDielectric), eta_(eta), abbe_(abbe) {
   if (abbe > 0) {
     const double d = 587.56, F = 486.13, C = 656.27;
     double B = (eta - 1.0) / (abbe * (1.0 / (F * F) - 1.0 / (C * C)));
@@ -15,6 +16,10 @@ Dielectric::Dielectric(float eta, float abbe) : eta_(eta), abbe_(abbe) {
 }
 
 bool Dielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float uc, BSDFSample* s) const {
+  return scatter(wo, c, uc, kSpecular, s);
+}
+
+bool Dielectric::scatter(const Vec3& wo, const BSDFContext& c, float uc, BSDFFlags lobe, BSDFSample* s) const {
   if (wo.z == 0) return false;
   float eta = eta_;
   Spectrum heroScale(1.0f);
@@ -30,7 +35,9 @@ bool Dielectric::sample(const Vec3& wo, const BSDFContext& c, const Vec2&, float
   }
   float F = fresnelDielectric(wo.z, eta);
   s->delta = true;
-  if (uc < F) {
+  const bool reflects = lobe == kSpecular ? uc < F : lobe == kSpecularReflection;
+  if (reflects && !(F > 0)) return false;
+  if (reflects) {
     // Reflection chosen with probability F: weight F/F = 1.
     s->wi = Vec3(-wo.x, -wo.y, wo.z);
     s->weight = heroScale;

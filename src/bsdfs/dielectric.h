@@ -17,13 +17,17 @@ class Dielectric final : public BSDF {
   Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(0.0f); }
   float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return 0.0f; }
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
-  bool isDelta() const override { return true; }
+  bool specularLobe(const Vec3& wo, const BSDFContext& c, BSDFFlags lobe, BSDFSample* s) const override {
+    return scatter(wo, c, 0.0f, lobe, s);
+  }
   const char* name() const override { return "dielectric"; }
   float eta() const { return eta_; }
   float abbe() const { return abbe_; }
   float eta(float lambdaNm) const { return cauchyB_ == 0.0f ? eta_ : cauchyA_ + cauchyB_ / (lambdaNm * lambdaNm); }
 
  private:
+  // sample() with lobe = kSpecular (reflection with probability F), or the one lobe asked for.
+  bool scatter(const Vec3& wo, const BSDFContext& c, float uc, BSDFFlags lobe, BSDFSample* s) const;
   float eta_, abbe_;
   float cauchyA_ = 0.0f, cauchyB_ = 0.0f;  // n(λ) = A + B/λ², λ in nm
 };

@@ -11,7 +11,7 @@ namespace pl {
 // α = roughness² (glTF's perceptual roughness). Sampled by D(m) cosθm.
 class GGXConductor final : public BSDF {
  public:
-  GGXConductor(ColorTexture F0, float alpha) : F0_(std::move(F0)), ggx_{std::max(alpha, 1e-4f)} {}
+  GGXConductor(ColorTexture F0, float alpha) : BSDF(kGlossyReflection), F0_(std::move(F0)), ggx_{std::max(alpha, 1e-4f)} {}
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;

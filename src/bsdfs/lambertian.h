@@ -7,7 +7,7 @@ namespace pl {
 // Ideal diffuse reflector, f = ρ/π; sampled by cosine-weighted hemisphere, so weight = ρ.
 class Lambertian final : public BSDF {
  public:
-  explicit Lambertian(ColorTexture albedo) : albedo_(std::move(albedo)) { lambertian_ = true; }
+  explicit Lambertian(ColorTexture albedo) : BSDF(kDiffuseReflection, BSDFClass::kLambertian), albedo_(std::move(albedo)) {}
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   BSDFEval evaluate(const Vec3& wo, const Vec3& wi, const BSDFContext& c, bool reverse) const override;

@@ -36,13 +36,14 @@ class MetallicRoughness final : public BSDF {
   // metallicRoughness: factor (1, roughness, metallic) × the linear texture, if any;
   // transmission: factor t (in every channel) × the linear texture's R, if any.
   MetallicRoughness(ColorTexture baseColor, ColorTexture metallicRoughness, ColorTexture transmission = ColorTexture(Spectrum(0.0f)))
-      : baseColor_(std::move(baseColor)), metallicRoughness_(std::move(metallicRoughness)), transmission_(std::move(transmission)),
+      : BSDF(transmission.factor().r > 0 ? kDiffuseReflection | kGlossyReflection | kGlossyTransmission
+                                           : kDiffuseReflection | kGlossyReflection),
+        baseColor_(std::move(baseColor)), metallicRoughness_(std::move(metallicRoughness)), transmission_(std::move(transmission)),
         transmits_(transmission_.factor().r > 0) {}
   Spectrum eval(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   float pdf(const Vec3& wo, const Vec3& wi, const BSDFContext& c) const override;
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
   const char* name() const override { return transmits_ ? "metallic-roughness, thin-walled transmission" : "metallic-roughness"; }
-  bool transmits() const override { return transmits_; }
 
   // The dielectric specular layer's directional albedo E(μ) at a roughness, and its cosine-
   // weighted mean E_avg (exposed for tests).

@@ -6,7 +6,8 @@
 
 namespace pl {
 
-Phong::Phong(const Spectrum& kd, const Spectrum& ks, float exponent) : kd_(kd), ks_(ks), n_(exponent) {
+Phong::Phong(const Spectrum& kd, const Spectrum& ks, float exponent)
+    : BSDF(kDiffuseReflection | kGlossyReflection), kd_(kd), ks_(ks), n_(exponent) {
   float d = average(kd), sp = average(ks);
   diffuseProbability_ = d + sp > 0 ? d / (d + sp) : 1.0f;
 }

@@ -19,12 +19,16 @@ class ThinDielectric final : public BSDF {
   Spectrum eval(const Vec3&, const Vec3&, const BSDFContext&) const override { return Spectrum(0.0f); }
   float pdf(const Vec3&, const Vec3&, const BSDFContext&) const override { return 0.0f; }
   bool sample(const Vec3& wo, const BSDFContext& c, const Vec2& u, float uc, BSDFSample* s) const override;
-  bool isDelta() const override { return true; }
+  bool specularLobe(const Vec3& wo, const BSDFContext& c, BSDFFlags lobe, BSDFSample* s) const override {
+    return scatter(wo, c, 0.0f, lobe, s);
+  }
   const char* name() const override { return "thin dielectric"; }
   // Schlick's reflectance at cosθ.
   float reflectance(float cosTheta) const;
 
  private:
+  // sample() with lobe = kSpecular (reflection with probability P), or the one lobe asked for.
+  bool scatter(const Vec3& wo, const BSDFContext& c, float uc, BSDFFlags lobe, BSDFSample* s) const;
   ColorTexture transmittance_;
   float F0_;
 };

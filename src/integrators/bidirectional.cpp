@@ -192,7 +192,7 @@ class VertexConnectionMerging::Tracer {
       path.dVC /= Mis(cosIn);
       path.dVM /= Mis(cosIn);
 
-      if (!hit.bsdf->isDelta()) {
+      if (!hit.bsdf->isSpecular()) {
         LightVertex v{hit, wo, path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly,
                       hit.shading.toLocal(wo), hit.shading.toLocal(hit.ng)};
         if (o_.merge || o_.connect) vertices->push_back(v);
@@ -290,7 +290,7 @@ class VertexConnectionMerging::Tracer {
       if (hit.light) emission(hit, wo, path, sink);  // s = 0, t = length + 1
       if (path.length > o_.maxDepth) return;          // no technique from here is short enough
 
-      if (!hit.bsdf->isDelta()) {
+      if (!hit.bsdf->isSpecular()) {
         const Vec3 woLocal = hit.shading.toLocal(wo);
         if (o_.connect) {
           directIllumination(hit, woLocal, path, sampler, sink);  // s = 1
@@ -410,8 +410,8 @@ class VertexConnectionMerging::Tracer {
     const float dist = std::sqrt(dist2);
     d /= dist;
     // Through a surface only where its BSDF transmits (the test first: it spares the rest).
-    if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !hit.bsdf->transmits()) return;
-    if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0 && !v.hit.bsdf->transmits()) return;
+    if (glm::dot(d, hit.ng) * glm::dot(wo, hit.ng) <= 0 && !hasSmoothTransmission(hit.bsdf->flags())) return;
+    if (glm::dot(-d, v.hit.ng) * glm::dot(v.wo, v.hit.ng) <= 0 && !hasSmoothTransmission(v.hit.bsdf->flags())) return;
     const Vec3 wiLocal = hit.shading.toLocal(d);
     const Vec3& lightWo = v.woLocal;
     const Vec3 lightWi = v.hit.shading.toLocal(-d);
@@ -447,7 +447,7 @@ class VertexConnectionMerging::Tracer {
     const Vec3 wo = hit.shading.toWorld(woLocal);
     const BSDFContext cc = bsdfContext(hit, path.lambda);
     const bool shadingDiffers = hit.shadingDiffers();
-    const bool transmits = hit.bsdf->transmits();
+    const bool transmits = hasSmoothTransmission(hit.bsdf->flags());
     const Vec3 ngLocal = hit.shading.toLocal(hit.ng);
     Spectrum sum(0.0f);
     grid.query(hit.p, [&](const MergeVertex& v) {

@@ -9,7 +9,7 @@ Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelen
   if (!scene.intersect(ray, &hit)) return escapedRadiance(scene, ray.d, lambda, true, 0.0f);
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
-  if (!hit.bsdf->isDelta()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), lambda, sampler, false);
+  if (!hit.bsdf->isSpecular()) L += estimateDirect(scene, hit, hit.shading.toLocal(-ray.d), lambda, sampler, false);
   return L;
 }
 

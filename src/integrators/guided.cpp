@@ -73,7 +73,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
 
     const Vec3 wo = hit.shading.toLocal(-ray.d);
     const BSDFContext bc = bsdfContext(hit, lambda);
-    const bool delta = hit.bsdf->isDelta();
+    const bool delta = hit.bsdf->isSpecular();
     // The guide at this point, on the side of the surface the path is on (the geometric normal
     // turned towards it); where it knows nothing the BSDF samples alone (α = 1).
     const GuideLookup here =

@@ -56,7 +56,7 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
     beta *= transmittance;
     throughput *= transmittance;
     const Vec3 wo = -ray.d;
-    if (!hit.bsdf->isDelta()) connectToCamera(scene, hit, wo, beta, path);
+    if (!hit.bsdf->isSpecular()) connectToCamera(scene, hit, wo, beta, path);
     if (depth == maxDepth_) return;
 
     BSDFSample bs;

@@ -64,7 +64,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
     if (depth >= maxDepth_) break;
 
     Vec3 wo = hit.shading.toLocal(-ray.d);
-    if (!hit.bsdf->isDelta()) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
+    if (!hit.bsdf->isSpecular()) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
 
     BSDFSample bs;
     Vec2 u = sampler.get2D();

@@ -46,7 +46,7 @@ std::string PathLanes::unsupported(const Scene& scene) {
   if (scene.geometryFirstTriangles().empty()) return "instances or the compact BVH";
   if (scene.hasVertexColors()) return "vertex colours";
   for (const auto& light : scene.lights()) {
-    if (std::string(light->name()) != "area") return std::string("a ") + light->name() + " light";
+    if (light->type() != LightType::kArea) return std::string("a ") + light->name() + " light";
     if (static_cast<const AreaLight&>(*light).textured()) return "a textured area light";
   }
   std::vector<bool> used(scene.materials().size(), false);
@@ -57,14 +57,18 @@ std::string PathLanes::unsupported(const Scene& scene) {
     const std::string name = "material '" + m.name + "'";
     if (!m.bsdf) return name + " has no BSDF";
     if (m.normalMap || m.alpha || m.alphaMode != AlphaMode::Opaque) return name + " has a normal map or alpha";
-    if (const auto* lambertian = dynamic_cast<const Lambertian*>(m.bsdf.get())) {
-      if (!lambertian->albedo().isConstant()) return name + " is textured";
-    } else if (const auto* mirror = dynamic_cast<const Mirror*>(m.bsdf.get())) {
-      if (!mirror->reflectance().isConstant()) return name + " is textured";
-    } else if (const auto* glass = dynamic_cast<const Dielectric*>(m.bsdf.get())) {
-      if (glass->abbe() > 0) return name + " disperses";
-    } else {
-      return name + " is a " + m.bsdf->name() + " BSDF";
+    switch (m.bsdf->bsdfClass()) {
+      case BSDFClass::kLambertian:
+        if (!static_cast<const Lambertian&>(*m.bsdf).albedo().isConstant()) return name + " is textured";
+        break;
+      case BSDFClass::kMirror:
+        if (!static_cast<const Mirror&>(*m.bsdf).reflectance().isConstant()) return name + " is textured";
+        break;
+      case BSDFClass::kDielectric:
+        if (static_cast<const Dielectric&>(*m.bsdf).abbe() > 0) return name + " disperses";
+        break;
+      case BSDFClass::kOther:
+        return name + " is a " + m.bsdf->name() + " BSDF";
     }
   }
   return {};
@@ -76,12 +80,13 @@ PathLanes::PathLanes(const Scene& scene) : scene_(scene), isa_(lanes::bestIsa())
     int32_t kind = kLambertian;
     Vec3 color(0.0f);
     float eta = 1.0f;
-    if (const auto* lambertian = dynamic_cast<const Lambertian*>(m.bsdf.get())) {
-      color = lambertian->albedo().factor();
-    } else if (const auto* mirror = dynamic_cast<const Mirror*>(m.bsdf.get())) {
-      kind = kMirror, color = mirror->reflectance().factor();
-    } else if (const auto* glass = dynamic_cast<const Dielectric*>(m.bsdf.get())) {
-      kind = kGlass, eta = glass->eta();
+    const BSDFClass bsdfClass = m.bsdf ? m.bsdf->bsdfClass() : BSDFClass::kOther;
+    if (bsdfClass == BSDFClass::kLambertian) {
+      color = static_cast<const Lambertian&>(*m.bsdf).albedo().factor();
+    } else if (bsdfClass == BSDFClass::kMirror) {
+      kind = kMirror, color = static_cast<const Mirror&>(*m.bsdf).reflectance().factor();
+    } else if (bsdfClass == BSDFClass::kDielectric) {
+      kind = kGlass, eta = static_cast<const Dielectric&>(*m.bsdf).eta();
     }
     surfaces_.push_back({kind, color, eta});
   }

@@ -82,7 +82,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
       SurfaceHit y;
       if (!scene.intersect(ray, &y)) break;
       beta *= scene.transmittance(y, ray.d, lambda);
-      if (!y.bsdf->isDelta()) {
+      if (!y.bsdf->isSpecular()) {
         sum += beta * maps_.global.radiance(y, -ray.d, lambda, o_.density, Photon::kAcceptAll);
         break;
       }
@@ -113,7 +113,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     Vec3 wo = -ray.d;
     if (hit.light && o_.aov.empty()) L += beta * hit.light->L(hit.uv, wo, lambda);
     Vec3 woLocal = hit.shading.toLocal(wo);
-    if (hit.bsdf->isDelta()) {
+    if (hit.bsdf->isSpecular()) {
       BSDFSample s;
       if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), sampler.get2D(), sampler.get1D(), &s))
         break;

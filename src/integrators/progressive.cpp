@@ -42,7 +42,7 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
     beta *= scene.transmittance(hit, ray.d, lambda);
     Vec3 wo = -ray.d;
     if (hit.light) L += beta * hit.light->L(hit.uv, wo, lambda);
-    if (!hit.bsdf->isDelta()) {
+    if (!hit.bsdf->isSpecular()) {
       vp->hit = hit;
       vp->wo = wo;
       vp->beta = beta;
@@ -70,7 +70,7 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   float R = float(std::sqrt(stats->R2));
   Vec3 n = glm::dot(vp.hit.ng, vp.wo) >= 0 ? vp.hit.ng : -vp.hit.ng;
   // Photons from the other side count where the BSDF transmits: through a thin translucent wall.
-  map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R, vp.hit.bsdf->transmits());
+  map.withinRadius(vp.hit.p, n, accept, R, &found, 0.25f * R, hasSmoothTransmission(vp.hit.bsdf->flags()));
   Vec3 wo = vp.hit.shading.toLocal(vp.wo);
   const bool shadingDiffers = vp.hit.shadingDiffers();
   const Vec3 ngLocal = vp.hit.shading.toLocal(vp.hit.ng);

@@ -11,18 +11,17 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
   Spectrum L(0.0f);
   if (hit.light) L += hit.light->L(hit.uv, -ray.d, lambda);
   Vec3 wo = hit.shading.toLocal(-ray.d);
-  if (!hit.bsdf->isDelta()) return T * (L + estimateDirect(scene, hit, wo, lambda, sampler, false));
+  if (!hit.bsdf->isSpecular()) return T * (L + estimateDirect(scene, hit, wo, lambda, sampler, false));
   if (depth >= maxDepth_) return T * L;
-  // Enumerate the specular lobes deterministically: uc = 0 picks reflection whenever it has
-  // any probability, uc → 1 picks transmission whenever it exists. The lobe's contribution is
-  // weight × probability (e.g. F·1 for reflection, (1−F)/η² for refraction).
+  // Every specular lobe the BSDF has, reflection first; each contributes weight × probability
+  // (e.g. F·1 for reflection, (1−F)/η² for refraction). Both are found before either is traced,
+  // with the wavelengths a dispersive lobe leaves.
   BSDFSample lobes[2];
   int count = 0;
-  for (float uc : {0.0f, 0.99999994f}) {
+  for (BSDFFlags lobe : {kSpecularReflection, kSpecularTransmission}) {
     BSDFSample s;
-    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), Vec2(0.5f), uc, &s)) continue;
+    if (!(hit.bsdf->flags() & lobe) || !hit.bsdf->specularLobe(wo, bsdfContext(hit, lambda), lobe, &s)) continue;
     if (s.terminatesSecondary) lambda.terminateSecondary();
-    if (count == 1 && glm::all(glm::equal(s.wi, lobes[0].wi))) continue;  // single-lobe BSDF
     lobes[count++] = s;
   }
   for (int i = 0; i < count; ++i) {

@@ -7,7 +7,7 @@ namespace pl {
 
 AreaLight::AreaLight(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Spectrum& Le, bool twoSided,
                      std::shared_ptr<const EmissionTexture> texture)
-    : p0_(p0), p1_(p1), p2_(p2), Le_(Le), texture_(std::move(texture)), twoSided_(twoSided) {
+    : Light(LightType::kArea), p0_(p0), p1_(p1), p2_(p2), Le_(Le), texture_(std::move(texture)), twoSided_(twoSided) {
   Vec3 c = glm::cross(p1 - p0, p2 - p0);
   float len = glm::length(c);
   area_ = 0.5f * len;

@@ -27,7 +27,6 @@ class AreaLight final : public Light {
   Spectrum power() const override { return kPi * Le_ * area_ * (twoSided_ ? 2.0f : 1.0f); }
   bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const override;
   EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const override;
-  bool isDeltaPosition() const override { return false; }
   const char* name() const override { return "area"; }
 
   // Radiance leaving the light in direction w (unit, away from the surface) at the point whose

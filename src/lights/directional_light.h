@@ -8,14 +8,12 @@ namespace pl {
 class DirectionalLight final : public Light {
  public:
   DirectionalLight(const Vec3& direction, const Spectrum& irradiance, float powerOverride = -1.0f)
-      : direction_(glm::normalize(direction)), E_(irradiance), powerOverride_(powerOverride) {}
+      : Light(LightType::kDeltaDirection), direction_(glm::normalize(direction)), E_(irradiance), powerOverride_(powerOverride) {}
   void preprocess(const Vec3& center, float radius) override;
   Spectrum power() const override { return E_ * (kPi * radius_ * radius_); }
   bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const override;
   EmittedRay sampleLe(const Vec2& uPosition, const Vec2& uDirection, const SampledWavelengths& lambda) const override;
   void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const override;
-  bool isDeltaPosition() const override { return false; }
-  bool isDeltaDirection() const override { return true; }
   const char* name() const override { return "directional"; }
 
  private:

@@ -22,7 +22,7 @@ double rowEdge(int j, int height) { return std::cos(kPi * double(j) / double(hei
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(ImageRGB map, float rotationDegrees, std::string description)
-    : map_(std::move(map)), description_(std::move(description)) {
+    : Light(LightType::kInfinite), map_(std::move(map)), description_(std::move(description)) {
   const float a = rotationDegrees * (kPi / 180.0f);
   cos_ = std::cos(a), sin_ = std::sin(a);
   const int W = map_.width, H = map_.height;

@@ -45,8 +45,6 @@ class EnvironmentLight final : public Light {
   void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const override;
   // Radiance leaving the sky in direction w (towards the scene): what arrives from −w.
   Spectrum L(const Vec3&, const Vec3& w, const SampledWavelengths& lambda) const override { return radiance(-w, lambda); }
-  bool isDeltaPosition() const override { return false; }
-  bool isInfinite() const override { return true; }
   void preprocess(const Vec3& center, float radius) override;
   const char* name() const override { return "environment"; }
 

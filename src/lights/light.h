@@ -26,8 +26,17 @@ struct EmittedRay {
   float pdfDir = 1.0f;  // solid-angle density of the direction; 1 for a delta direction
 };
 
+// What kind of emitter a light is (pbrt-v4's LightType): integrators ask this, never the class.
+enum class LightType : uint8_t {
+  kDeltaPosition,   // at one point (point and spot lights): no ray finds it
+  kDeltaDirection,  // from one direction (directional light): no ray finds it
+  kArea,            // an emitting surface: rays hit it, next-event estimation samples it
+  kInfinite,        // the environment: at infinity in every direction, found by rays that leave the scene
+};
+
 class Light {
  public:
+  explicit Light(LightType type) : type_(type) {}
   virtual ~Light() = default;
   // Colour temperature in kelvin (glTF extras.photonlab.temperature), 0 = none. The loader sets
   // the RGB colour to the blackbody's; in spectral mode emit() uses Planck's law itself.
@@ -44,14 +53,12 @@ class Light {
   virtual void pdfLe(const Ray& ray, const Vec3& n, float* pdfPos, float* pdfDir) const = 0;
   // Radiance leaving the light's point y in direction w (unit); 0 for delta lights.
   virtual Spectrum L(const Vec3& y, const Vec3& w, const SampledWavelengths& lambda) const { return Spectrum(0.0f); }
-  // Point and spot lights sit at one point; directional light comes from one direction. Neither
-  // can be hit by rays.
-  virtual bool isDeltaPosition() const { return true; }
-  virtual bool isDeltaDirection() const { return false; }
+  LightType type() const { return type_; }
+  bool isDeltaPosition() const { return type_ == LightType::kDeltaPosition; }
+  bool isDeltaDirection() const { return type_ == LightType::kDeltaDirection; }
   bool isDelta() const { return isDeltaPosition() || isDeltaDirection(); }
-  // The environment (lights/environment_light.h): at infinity in every direction, found by rays
-  // that leave the scene rather than by hits, and emitting through the scene's bounding disc.
-  virtual bool isInfinite() const { return false; }
+  // The environment emits through the scene's bounding disc (lights/environment_light.h).
+  bool isInfinite() const { return type_ == LightType::kInfinite; }
   // Lights that need the scene's extent (directional) are told it once loading is done.
   virtual void preprocess(const Vec3& sceneCenter, float sceneRadius) {}
   virtual const char* name() const = 0;
@@ -66,6 +73,7 @@ class Light {
   }
 
  private:
+  LightType type_;
   Spectrum emitSpectral(const Spectrum& rgb, const SampledWavelengths& lambda) const {
     float scale = temperature > 0 || equalEnergy ? luminance(rgb) : maxComponent(rgb);
     if (!(scale > 0.0f)) return Spectrum(0.0f);

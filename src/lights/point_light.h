@@ -6,7 +6,7 @@ namespace pl {
 // Isotropic point light: radiant intensity I (W/sr), power Φ = 4πI, E = I cosθ / r².
 class PointLight final : public Light {
  public:
-  PointLight(const Vec3& position, const Spectrum& intensity) : position_(position), I_(intensity) {}
+  PointLight(const Vec3& position, const Spectrum& intensity) : Light(LightType::kDeltaPosition), position_(position), I_(intensity) {}
   static Spectrum intensityForPower(const Spectrum& power) { return power * kInv4Pi; }
   Spectrum power() const override { return 4.0f * kPi * I_; }
   bool sampleLi(const Vec3& p, const Vec2& u, const SampledWavelengths& lambda, LightSample* s) const override;

@@ -7,7 +7,7 @@ namespace pl {
 
 SpotLight::SpotLight(const Vec3& position, const Vec3& direction, const Spectrum& intensity, float innerAngle,
                      float outerAngle)
-    : position_(position), direction_(glm::normalize(direction)), I_(intensity),
+    : Light(LightType::kDeltaPosition), position_(position), direction_(glm::normalize(direction)), I_(intensity),
       cosInner_(std::cos(innerAngle)), cosOuter_(std::cos(outerAngle)) {}
 
 // ∫ a(cosθ)² dω over the sphere, divided by 2π: the flat part (1 − cosθi) plus the quadratic

@@ -8,7 +8,7 @@ namespace pl {
 class WarnSpotlight final : public Light {
  public:
   WarnSpotlight(const Vec3& position, const Vec3& direction, const Spectrum& c, float exponent)
-      : position_(position), direction_(glm::normalize(direction)), c_(c), s_(exponent) {}
+      : Light(LightType::kDeltaPosition), position_(position), direction_(glm::normalize(direction)), c_(c), s_(exponent) {}
   static Spectrum cForPower(const Spectrum& power, float exponent) {
     return (exponent + 1.0f) * power * kInv2Pi;
   }

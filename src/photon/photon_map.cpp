@@ -318,7 +318,7 @@ Spectrum PhotonMap::radiance(const SurfaceHit& hit, const Vec3& woWorld, const D
   Vec3 wo = hit.shading.toLocal(woWorld);
   const BSDFContext bc = bsdfContext(hit);
   // Photons from the other side count where the BSDF transmits: through a thin translucent wall.
-  const bool bothSides = hit.bsdf->transmits();
+  const bool bothSides = hasSmoothTransmission(hit.bsdf->flags());
   if (!hit.shadingDiffers())
     return estimate(hit.p, n, de, accept, stats,
                     [&](const Photon& p) { return hit.bsdf->eval(wo, hit.shading.toLocal(p.wi()), bc); }, bothSides);

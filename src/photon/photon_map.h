@@ -51,7 +51,7 @@ class PhotonMap {
   // zero vector to accept every side) and whose path type is in `accept` (Photon::kAccept*).
   // knn: the k nearest within maxRadius (0 = unbounded), sorted by distance.
   // planeTolerance > 0 (needs a non-zero n): skip photons farther than it from x's tangent plane.
-  // bothSides: photons from either side of n (a surface whose BSDF transmits, BSDF::transmits()).
+  // bothSides: photons from either side of n (a surface whose BSDF has a smooth transmission lobe: hasSmoothTransmission).
   void knn(const Vec3& x, const Vec3& n, uint8_t accept, int k, float maxRadius, std::vector<Neighbour>* out,
            float planeTolerance = 0.0f, bool bothSides = false) const;
   void withinRadius(const Vec3& x, const Vec3& n, uint8_t accept, float radius, std::vector<Neighbour>* out,

@@ -34,7 +34,7 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     if (!scene.intersect(ray, &hit)) return;
     flux *= scene.transmittance(hit, ray.d, lambda);
     Vec3 wo = -ray.d;
-    if (!hit.bsdf->isDelta()) {
+    if (!hit.bsdf->isSpecular()) {
       // kDirect at the first hit, kCaustic after specular bounces only, kIndirect otherwise;
       // in integer arithmetic, since depth == 0 is unpredictable.
       bool first = depth == 0;
@@ -53,7 +53,7 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     // Diffuse hits, most of them, call Lambertian (final) directly, inlined here: the virtual
     // call and BSDFSample's round trip through memory measured 3–4% of photon tracing.
     const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
-    bool sampled = hit.bsdf->isLambertian() ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
+    bool sampled = hit.bsdf->bsdfClass() == BSDFClass::kLambertian ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
                                             : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
     if (!sampled) return;
     if (bs.terminatesSecondary) lambda.terminateSecondary();

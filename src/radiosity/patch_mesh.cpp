@@ -105,7 +105,7 @@ PatchMesh::PatchMesh(const Scene& scene, float patchSize) : patchSize_(patchSize
     faces.normal = side * centre.ng;
 
     Spectrum reflectance(0.0f);
-    if (material.bsdf && material.bsdf->isLambertian()) {
+    if (material.bsdf && material.bsdf->bsdfClass() == BSDFClass::kLambertian) {
       // f = ρ/π for a Lambertian BSDF, whatever the directions.
       reflectance = kPi * material.bsdf->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), bsdfContext(centre));
     } else if (material.bsdf && !namedNonDiffuse[materialIndex]) {

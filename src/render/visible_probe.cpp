@@ -20,7 +20,7 @@ std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int he
         SurfaceHit hit;
         if (!scene.intersect(ray, &hit)) break;
         travelled += hit.t;
-        if (!hit.bsdf->isDelta()) {
+        if (!hit.bsdf->isSpecular()) {
           points.push_back({hit, -ray.d, travelled});
           break;
         }
