@@ -8,7 +8,9 @@
 #   --sanitizers   then builds again with AddressSanitizer + UndefinedBehaviorSanitizer into
 #                  build-sanitize/ and runs the Catch2 tests there too (what .ci/run does),
 #                  all but those tagged [long] (ctest label "long": the longest convergence
-#                  checks under the sanitizers, on code paths shorter tests also take).
+#                  checks under the sanitizers, on code paths shorter tests also take) and
+#                  [latency] (real-time stop bounds, which the sanitizers' slowdown would
+#                  break; every stop is also tested with an injected clock).
 #                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -39,5 +41,5 @@ if [ $sanitizers = 1 ]; then
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPHOTONLAB_SANITIZE=ON >/dev/null
   cmake --build build-sanitize -j"$(nproc)"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --timeout 900 -LE long
+    ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --timeout 900 -LE "long|latency"
 fi

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "bsdfs/lambertian.h"
+#include "core/budget.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
 #include "lights/point_light.h"
@@ -130,6 +131,33 @@ TEST_CASE("contract: no integrator puts a NaN or an infinity on the film of a de
     for (float v : image.data) bad += !std::isfinite(v), sum += v;
     CHECK(bad == 0);
     CHECK(sum > 0);  // something is lit: a blank film would pass the finiteness check vacuously
+  }
+}
+
+TEST_CASE("contract: every integrator stops when its time budget ends - with a finite image - and says so") {
+  // A time budget alone (its work unlimited, as `--time` without a count gives it), read from an
+  // injected clock: every reading advances 1 ms, so the budget is 200 polls of work. An
+  // integrator that did not poll its budget would never return (ctest's timeout fails it).
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+  for (const IntegratorEntry* e : integrators()) {
+    INFO(e->name);
+    SteppingClock clock(1e-3);
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.threads = 1;
+    o.timeLimit = 0.2;
+    o.clock = &clock;
+    ParamSet p = cheap(*e, 1);
+    if (const ParamSpec* budget = e->budgetParam()) p.unset(budget->name);
+    if (e->resolve) e->resolve(*scene, o.width, o.height, p);
+    o.spp = p.isSet("spp") ? int(p.integer("spp")) : 0;  // unset: until the budget ends (experiment/config.cpp)
+    RenderInfo info;
+    const ImageRGB image = makeIntegrator(e->name, p, o)->render(*scene, o, &info);
+    CHECK(info.timeUp);
+    CHECK(info.seconds >= o.timeLimit);
+    size_t bad = 0;
+    for (float v : image.data) bad += !std::isfinite(v);
+    CHECK(bad == 0);
   }
 }
 

@@ -297,7 +297,7 @@ TEST_CASE("render: --time is honoured inside photon tracing and final gathering 
   }
 }
 
-TEST_CASE("render: SIGINT and SIGTERM take effect within 1 s in photon tracing and in final gathering - the partial image is written", "[serial]") {
+TEST_CASE("render: SIGINT and SIGTERM take effect within 1 s in photon tracing and in final gathering - the partial image is written", "[latency]") {
   // Signals sent 1 s after the start, when the scene is loaded and the render is in the phase
   // each case makes long: tracing 20M photon paths (~5 s), or final gathering (256 rays per hit).
   GltfFixture f;

@@ -2,8 +2,8 @@
 
 namespace pl {
 
-Budget::Budget(double seconds) : limit_(seconds > 0 ? seconds : 0.0) {
-  if (limit_ > 0) watchdog_ = std::thread([this] { watch(); });
+Budget::Budget(double seconds, Clock* clock) : limit_(seconds > 0 ? seconds : 0.0), clock_(clock) {
+  if (limit_ > 0 && !clock_) watchdog_ = std::thread([this] { watch(); });
 }
 
 Budget::~Budget() {
@@ -15,29 +15,39 @@ Budget::~Budget() {
   if (watchdog_.joinable()) watchdog_.join();
 }
 
-double Budget::elapsedLocked(Clock::time_point now) const {
-  double total = std::chrono::duration<double>(now - start_).count() - paused_;
-  if (pausedNow_) total -= std::chrono::duration<double>(now - pauseStart_).count();
+double Budget::now() const {
+  if (clock_) return clock_->seconds();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - steadyStart_).count();
+}
+
+double Budget::elapsedLocked(double now) const {
+  double total = now - start_ - paused_;
+  if (pausedNow_) total -= now - pauseStart_;
   return total;
 }
 
 double Budget::elapsed() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return elapsedLocked(Clock::now());
+  return elapsedLocked(now());
+}
+
+void Budget::pollClock() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!pausedNow_ && elapsedLocked(now()) >= limit_) timeUp_.store(true);
 }
 
 void Budget::pause() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (pausedNow_) return;
   pausedNow_ = true;
-  pauseStart_ = Clock::now();
+  pauseStart_ = now();
 }
 
 void Budget::resume() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!pausedNow_) return;
-    paused_ += std::chrono::duration<double>(Clock::now() - pauseStart_).count();
+    paused_ += now() - pauseStart_;
     pausedNow_ = false;
   }
   wake_.notify_all();  // the deadline moved
@@ -52,7 +62,7 @@ void Budget::watch() {
       wake_.wait(lock);
       continue;
     }
-    double remaining = limit_ - elapsedLocked(Clock::now());
+    double remaining = limit_ - elapsedLocked(now());
     if (remaining <= 0) {
       timeUp_.store(true);
       return;

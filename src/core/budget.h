@@ -18,16 +18,42 @@
 
 namespace pl {
 
+// Where a budget reads the time: the steady clock unless one is injected. Tests inject a clock
+// whose time advances by a fixed step at every reading (SteppingClock), so that a budget ends
+// after a known amount of polled work whatever the machine's speed.
+class Clock {
+ public:
+  virtual ~Clock() = default;
+  virtual double seconds() = 0;  // monotonic
+};
+
+// Each reading returns the previous one plus `step` (thread-safe): time is the work polled.
+class SteppingClock final : public Clock {
+ public:
+  explicit SteppingClock(double step) : step_(step) {}
+  double seconds() override { return double(ticks_.fetch_add(1, std::memory_order_relaxed) + 1) * step_; }
+  uint64_t readings() const { return ticks_.load(); }
+
+ private:
+  double step_;
+  std::atomic<uint64_t> ticks_{0};
+};
+
 class Budget {
  public:
-  // seconds ≤ 0: no time limit (an interrupt still stops the work).
-  explicit Budget(double seconds = 0.0);
+  // seconds ≤ 0: no time limit (an interrupt still stops the work). With `clock`, time is read
+  // from it at every poll (no watchdog thread); otherwise from the steady clock, whose deadline a
+  // watchdog thread raises.
+  explicit Budget(double seconds = 0.0, Clock* clock = nullptr);
   ~Budget();
   Budget(const Budget&) = delete;
   Budget& operator=(const Budget&) = delete;
 
   // Stop now: the time is spent, or SIGINT/SIGTERM arrived.
-  bool expired() const { return timeUp_.load(std::memory_order_relaxed) || interruptRequested(); }
+  bool expired() const {
+    if (clock_ && limit_ > 0 && !timeUp_.load(std::memory_order_relaxed)) pollClock();
+    return timeUp_.load(std::memory_order_relaxed) || interruptRequested();
+  }
   bool timeUp() const { return timeUp_.load(std::memory_order_relaxed); }
   double limit() const { return limit_; }
   // How far past the limit (or past an interrupt) a piece of work that does not poll may run:
@@ -49,21 +75,24 @@ class Budget {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   void pause();
   void resume();
-  double elapsedLocked(Clock::time_point now) const;
+  double now() const;  // seconds on the clock read
+  double elapsedLocked(double now) const;
   void watch();
+  void pollClock() const;
 
   const double limit_;
-  const Clock::time_point start_ = Clock::now();
+  Clock* const clock_;
+  const std::chrono::steady_clock::time_point steadyStart_ = std::chrono::steady_clock::now();
+  const double start_ = now();
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   double paused_ = 0.0;            // seconds excluded so far
   bool pausedNow_ = false;
-  Clock::time_point pauseStart_;
+  double pauseStart_ = 0.0;
   bool done_ = false;
-  std::atomic<bool> timeUp_{false};
+  mutable std::atomic<bool> timeUp_{false};
   std::thread watchdog_;
 };
 

@@ -41,7 +41,7 @@
 #include "photon/hash_grid.h"
 #include "render/visible_probe.h"
 #include "render/camera_path.h"
-#include "render/checkpoints.h"
+#include "render/session.h"
 
 namespace pl {
 
@@ -541,15 +541,12 @@ class VertexConnectionMerging::Tracer {
 // so the image is the same whatever the thread count. An iteration the budget cuts short is
 // dropped whole.
 ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
-  Budget budget(options.timeLimit);
-  RenderOptions o = options;
-  resolveResolution(scene.camera(), o);
-  const int W = o.width, H = o.height;
-  const size_t pixels = size_t(W) * H;
-  const int threads = resolveThreads(o.threads);
   const int strategies = o_.strategies ? strategyCount(o_.maxDepth) : 0;
-  checkMemory(mulSaturate(pixels, (6 + 3 * uint64_t(strategies)) * sizeof(double) + 3 * sizeof(float)),
-              std::to_string(W) + "x" + std::to_string(H) + " film");
+  RenderSession session(scene, options, (6 + 3 * uint64_t(strategies)) * sizeof(double) + 3 * sizeof(float), "film");
+  const RenderOptions& o = session.options();
+  const int W = session.width, H = session.height, threads = session.threads;
+  const size_t pixels = session.pixels;
+  const Budget& budget = session.budget;
   const uint64_t lightStream = mix64(o.seed ^ 0x76636d6c69676874ULL);  // "vcmlight"
   const uint64_t lambdaStream = mix64(o.seed ^ 0x7663636c616d6264ULL);
   const uint64_t cameraStream = mix64(o.seed ^ 0x7663636d63616d65ULL);  // --sampler sobol's camera sequences
@@ -575,16 +572,12 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   float radius = radius1;
   uint64_t nonFinite = 0;
   auto infoAt = [&](bool last) {
-    RenderInfo st;
+    RenderInfo st = session.info(last);
     st.spp = done;
     st.meanWork = done;
     st.photons = uint64_t(done) * pixels;
-    st.seconds = budget.elapsed();
     st.meanRadius = o_.merge ? radius : 0.0;
     st.nonFiniteSamples = nonFinite + splatTotal.nonFinite();
-    st.interrupted = interruptRequested();
-    st.timeUp = budget.timeUp();
-    st.last = last;
     return st;
   };
   auto estimate = [&] {
@@ -600,11 +593,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
   // A slice (--sample-range A:B:K) runs iterations A, A + K, ... below B, each keyed (light
   // paths, wavelengths, radius) as in the whole render.
   if (o.sliced() && o_.strategies) throw Error("--aov strategies: not with a slice of the render");
-  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
-  const int first = range.first, target = range.end, step = range.step, iterations = range.count();
-  Progress progress(o, iterations);
-  Checkpoints checkpoints(o, budget);
-  for (int iteration = first; iteration < target && !budget.expired(); iteration += step) {
+  auto runIteration = [&](int iteration) {
     Iteration it;
     it.width = W, it.height = H;
     it.pixels = float(pixels);
@@ -695,7 +684,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       for (size_t i = k * chunkSize, end = std::min(pixels, i + chunkSize); i < end; ++i)
         cameraPath(i, perStrategy, chunkNonFinite[k]);
     });
-    if (cut) break;
+    if (cut) return false;  // the iteration is dropped whole
 
     // 2. The grid over every stored light vertex.
     if (o_.merge) {
@@ -718,7 +707,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
         std::vector<Spectrum> perStrategy(static_cast<size_t>(strategies));
         for (size_t i = y * size_t(W), end = i + size_t(W); i < end; ++i) cameraPath(i, perStrategy, rowNonFinite[y]);
       });
-      if (cut) break;
+      if (cut) return false;
     }
 
     // The iteration is complete: into the exact sums, in parallel (exact, so bit for bit the
@@ -737,12 +726,9 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
       for (size_t k = 0; k < chunks; ++k) strategySplats[size_t(s)].add(std::vector<SplatBuffer>{chunkStrategySplats[k][size_t(s)]});
     }
     ++done;
-    progress.update(done, budget.elapsed());
-    const bool last = done == iterations || budget.expired();
-    checkpoints.after(done, last, infoAt, estimate);
-    if (last) break;
-  }
-  checkpoints.finish(infoAt, estimate);
+    return true;
+  };
+  session.run(session.units(unitTarget(o.spp, o.timeLimit)), runIteration, infoAt, estimate);
   if (info) {
     *info = infoAt(true);
     if (o.sliced()) {

@@ -11,7 +11,7 @@
 #include "integrators/path.h"
 #include "integrators/builtins.h"
 #include "render/camera_path.h"
-#include "render/checkpoints.h"
+#include "render/session.h"
 #include "spectral/spectral.h"
 
 namespace pl {
@@ -263,14 +263,12 @@ double relativeVariance(const IterationSums& it, const std::vector<double>& nume
 }  // namespace
 
 ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* stats) {
-  RenderOptions o = options;
-  Budget budget(o.timeLimit);  // started here: training and photon tracing count
-  resolveResolution(scene.camera(), o);
-  const int W = o.width, H = o.height;
-  const size_t pixels = size_t(W) * H;
-  const int threads = resolveThreads(o.threads);
-  checkMemory(mulSaturate(pixels, 6 * sizeof(double) + 4 * sizeof(double) + sizeof(uint32_t) + 3 * sizeof(float)),
-              std::to_string(W) + "x" + std::to_string(H) + " image");
+  // Training and photon tracing count towards the render time.
+  RenderSession session(scene, options, 6 * sizeof(double) + 4 * sizeof(double) + sizeof(uint32_t) + 3 * sizeof(float), "image");
+  const RenderOptions& o = session.options();
+  const int W = session.width, H = session.height, threads = session.threads;
+  const size_t pixels = session.pixels;
+  Budget& budget = session.budget;
   GuideOptions go = options_.guideOptions;
   go.maxDepth = options_.maxDepth;
   go.spectral = o.spectral;
@@ -319,14 +317,10 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   };
   int done = 0;  // samples per pixel every pixel has
   auto infoAt = [&](bool last) {
-    RenderInfo st;
+    RenderInfo st = session.info(last);
     st.spp = done;
     st.meanWork = pixels ? double(samplesTaken) / pixels : 0.0;
-    st.seconds = budget.elapsed();
     for (auto n : nonFinite) st.nonFiniteSamples += n;
-    st.interrupted = interruptRequested();
-    st.timeUp = budget.timeUp();
-    st.last = last;
     return st;
   };
 

@@ -95,15 +95,8 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
 }
 
 PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
-    : image(io), budget(io.timeLimit) {
-  resolveResolution(scene.camera(), image);
-  width = image.width;
-  height = image.height;
-  threads = resolveThreads(image.threads);
-  pixels = size_t(width) * height;
-  checkMemory(mulSaturate(pixels, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) +
-                                      3 * sizeof(float) + sizeof(uint32_t)),
-              std::to_string(width) + "x" + std::to_string(height) + " progressive image");
+    : RenderSession(scene, io, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t),
+                    "progressive image") {
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
   passes.assign(pixels, 0);
 }

@@ -14,6 +14,7 @@
 #include "render/camera_path.h"
 #include "render/checkpoints.h"
 #include "render/renderer.h"
+#include "render/session.h"
 
 namespace pl {
 
@@ -84,16 +85,13 @@ double meanRadius(const std::vector<ProgressiveStats>& stats);
 // defaultRadius(); returns the sentence the CLI prints about it.
 std::string resolveProgressiveRadius(const Scene& scene, int width, int height, ParamSet& params);
 
-// What every progressive integrator derives from its options before the first pass, and the
-// render's budget (started here: the set-up counts towards the render time).
-struct PassSetup {
+// The render session of a progressive integrator (render/session.h; its budget is polled per
+// pixel, per photon chunk, in the kd-tree build) and what it derives from its options before
+// the first pass.
+struct PassSetup : RenderSession {
   PassSetup(const Scene& scene, const RenderOptions& image, const ProgressiveOptions& options);
-  PassSetup(const PassSetup&) = delete;
-  RenderOptions image;  // resolution resolved
-  int width, height, threads;
-  size_t pixels;
+  const RenderOptions& image = options();  // resolution resolved
   float initialRadius;  // options.radius, or defaultRadius()
-  Budget budget;        // image.timeLimit; polled per pixel, per photon chunk, in the kd-tree build
   // Passes each pixel has completed: equal, except that a pass the budget cut short during its
   // gathers reached only some pixels, each pixel's estimate using its own count.
   std::vector<uint32_t> passes;
@@ -117,48 +115,27 @@ void finishSpectralVisiblePoint(const SampledWavelengths& lambda, VisiblePoint* 
 // The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
 // interrupt. pass(p) returns whether its photons were traced (a pass the budget stops before
 // that is dropped whole); within it, the integrator polls the budget per pixel and counts the
-// pixels' completed passes in setup.passes. Hands image() to the checkpoint after passes 1, 2,
-// 4, ... and the last.
+// pixels' completed passes in setup.passes. A slice (PPPM's --pass-range A:B:K) runs passes
+// A + 1, A + 1 + K, ... up to B, and counts from its start.
 template <typename PassFn, typename ImageFn, typename RadiusFn>
 ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* info, PassFn&& pass, ImageFn&& image,
                    RadiusFn&& meanRadius) {
-  Budget& budget = setup.budget;
-  RenderInfo pi;
   uint64_t tracedPasses = 0;
-  auto fill = [&](bool last) {
+  auto infoAt = [&](bool last) {
+    RenderInfo pi = setup.info(last);
     PixelCounts counts = summarizeCounts(setup.passes);
     pi.passes = counts.all;
     pi.meanWork = counts.mean;
     pi.photons = tracedPasses * o.photonsPerPass;
-    pi.seconds = budget.elapsed();
     pi.meanRadius = meanRadius();
-    pi.interrupted = interruptRequested();
-    pi.timeUp = budget.timeUp();
-    pi.last = last;
-  };
-  auto infoAt = [&](bool last) {
-    fill(last);
     return pi;
   };
-  // A slice (PPPM's --pass-range A:B:K) runs passes A + 1, A + 1 + K, ... up to B, and counts
-  // from its start.
-  const RenderOptions& ro = setup.image;
-  const UnitRange range = unitRange(ro, o.passes);  // 0-based; pass p runs as p + 1
-  const int first = range.first + 1, final = range.end, step = range.step;
-  Progress progress(setup.image, ro.sliced() ? range.count()
-                                             : unitTarget(o.passes == INT32_MAX ? 0 : o.passes, setup.image.timeLimit));
-  Checkpoints checkpoints(setup.image, budget);
-  for (int p = first; p <= final && !budget.expired(); p += step) {
-    if (pass(p)) ++tracedPasses;
-    const int taken = (p - first) / step + 1;
-    progress.update(taken, budget.elapsed());
-    bool last = p + step > final || budget.expired();
-    checkpoints.after(taken, last, infoAt, image);
-    if (last) break;
-  }
-  fill(true);
-  checkpoints.finish(infoAt, image);  // e.g. the budget ended in PPM's eye pass: a black last image
-  if (info) *info = pi;
+  auto runPass = [&](int p) {  // 0-based unit p is pass p + 1
+    if (pass(p + 1)) ++tracedPasses;
+    return true;
+  };
+  setup.run(setup.units(o.passes), runPass, infoAt, image);
+  if (info) *info = infoAt(true);
   return image();
 }
 }  // namespace pl

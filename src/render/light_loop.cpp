@@ -1,22 +1,17 @@
 // The render loop of light-side integrators (LightPathIntegrator, render/integrator.h).
 #include <atomic>
 
-#include "core/interrupt.h"
-#include "core/memory.h"
-#include "core/parallel.h"
 #include "render/integrator.h"
-#include "render/checkpoints.h"
+#include "render/session.h"
 
 namespace pl {
 
 ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* info) {
-  Budget budget(options.timeLimit);  // started here: preprocessing counts towards the render time
-  RenderOptions o = options;
-  resolveResolution(scene.camera(), o);
-  const int W = o.width, H = o.height;
+  RenderSession session(scene, options, 2 * 3 * sizeof(double), "splat film");
+  const RenderOptions& o = session.options();
+  const int W = session.width, H = session.height, threads = session.threads;
   const uint64_t pathsPerIteration = uint64_t(W) * H;
-  const int threads = resolveThreads(o.threads);
-  checkMemory(mulSaturate(pathsPerIteration, 2 * 3 * sizeof(double)), std::to_string(W) + "x" + std::to_string(H) + " splat film");
+  const Budget& budget = session.budget;
   preprocess(scene, o.seed, threads, budget);
 
   // Chunks of 4096 paths, each with its splat buffer; blocks of 64 chunks are traced in parallel
@@ -28,26 +23,17 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
   std::vector<SplatBuffer> buffers;
   int done = 0;
   auto infoAt = [&](bool last) {
-    RenderInfo st;
+    RenderInfo st = session.info(last);
     st.spp = done;
     st.meanWork = done;
     st.photons = uint64_t(done) * pathsPerIteration;
-    st.seconds = budget.elapsed();
     st.nonFiniteSamples = total.nonFinite();
-    st.interrupted = interruptRequested();
-    st.timeUp = budget.timeUp();
-    st.last = last;
     return st;
   };
   auto estimate = [&] { return total.image(done > 0 ? 1.0 / done : 0.0); };
 
-  // A slice (--sample-range A:B:K) traces iterations A, A + K, ... below B, keyed as the whole
-  // render keys them.
-  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
-  const int first = range.first, target = range.end, step = range.step, iterations = range.count();
-  Progress progress(o, iterations);
-  Checkpoints checkpoints(o, budget);
-  for (int s = first; s < target && !budget.expired(); s += step) {
+  // Iteration s (a slice's are s = A, A + K, ... below B) keyed as the whole render keys it.
+  auto runIteration = [&](int s) {
     iteration.clear(threads);
     std::atomic<bool> cut{false};
     for (uint64_t first = 0; first < chunks && !cut; first += blockChunks) {
@@ -67,18 +53,14 @@ ImageRGB LightPathIntegrator::render(const Scene& scene, const RenderOptions& op
           traceLightPath(scene, path);
         }
       });
-      if (cut) break;
+      if (cut) return false;  // this iteration is dropped whole
       iteration.add(buffers, threads);
     }
-    if (cut) break;  // this iteration is dropped whole
     total.add(iteration, threads);
     ++done;
-    progress.update(done, budget.elapsed());
-    const bool last = done == iterations || budget.expired();
-    checkpoints.after(done, last, infoAt, estimate);
-    if (last) break;
-  }
-  checkpoints.finish(infoAt, estimate);
+    return true;
+  };
+  session.run(session.units(unitTarget(o.spp, o.timeLimit)), runIteration, infoAt, estimate);
   if (info) {
     *info = infoAt(true);
     if (o.sliced()) {

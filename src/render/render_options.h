@@ -16,6 +16,7 @@
 namespace pl {
 
 struct RenderInfo;
+class Clock;
 
 // Checkpoints fall after samples (or passes) 1, 2, 4, 8, ... and after the last.
 inline bool isCheckpoint(int n) { return n > 0 && (n & (n - 1)) == 0; }
@@ -35,6 +36,8 @@ struct RenderOptions {
   // Seconds; 0 = none. The render stops when it is spent, wherever it is (see core/budget.h):
   // within a pixel's sample of it, or a chunk of photon paths, or a slice of the kd-tree build.
   double timeLimit = 0.0;
+  // Where the budget reads the time (core/budget.h): the steady clock when null; tests inject one.
+  Clock* clock = nullptr;
   uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
   bool progress = false;

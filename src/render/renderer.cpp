@@ -11,7 +11,7 @@
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "render/camera_path.h"
-#include "render/checkpoints.h"
+#include "render/session.h"
 #include "spectral/spectral.h"
 
 namespace pl {
@@ -23,14 +23,12 @@ void resolveResolution(const Camera& camera, RenderOptions& o) {
   if (o.height <= 0) o.height = std::max(1, int(std::lround(o.width / aspect)));
 }
 
-ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions o, RenderInfo* stats) {
-  Budget budget(o.timeLimit);  // started here: preprocessing counts towards the render time
-  resolveResolution(scene.camera(), o);
-  const int W = o.width, H = o.height;
-  const size_t pixels = size_t(W) * H;
-  const int threads = resolveThreads(o.threads);
-  checkMemory(mulSaturate(pixels, 3 * sizeof(ExactSum) + 3 * sizeof(float) + 2 * sizeof(uint32_t)),
-              std::to_string(W) + "x" + std::to_string(H) + " image");
+ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions options, RenderInfo* stats) {
+  RenderSession session(scene, options, 3 * sizeof(ExactSum) + 3 * sizeof(float) + 2 * sizeof(uint32_t), "image");
+  const RenderOptions& o = session.options();
+  const int W = session.width, H = session.height;
+  const size_t pixels = session.pixels;
+  const Budget& budget = session.budget;
   // Exact sums (core/exact_sum.h): float accumulation drifts over thousands of samples, and
   // double accumulation depends on the grouping, which would keep slices of a render
   // (--sample-range) from merging into the bits of the whole.
@@ -53,41 +51,31 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
     return image;
   };
   auto infoAt = [&](bool last) {
-    RenderInfo st;
+    RenderInfo st = session.info(last);
     PixelCounts counts = summarizeCounts(count);
     st.spp = counts.all;
     st.meanWork = counts.mean;
-    st.seconds = budget.elapsed();
     for (auto n : nonFinite) st.nonFiniteSamples += n;
-    st.interrupted = interruptRequested();
-    st.timeUp = budget.timeUp();
-    st.last = last;
     integrator.addInfo(scene, o, &st);
     return st;
   };
-  integrator.preprocess(scene, o.seed, threads, budget);
+  integrator.preprocess(scene, o.seed, session.threads, budget);
 
-  // A slice renders samples [rangeBegin, rangeEnd) of the whole render; its progress and
-  // checkpoints count from the slice's start.
-  const UnitRange range = unitRange(o, unitTarget(o.spp, o.timeLimit));
-  const int first = range.first, target = range.end, step = range.step;
   // --sampler sobol: a pixel's samples are the points of its own scrambled sequences, indexed by
   // the sample number (so that slices of a render draw the same points as the whole).
   const int sobolSlots = integrator.sobolSlots();
   const uint64_t sobolKey = mix64(o.seed ^ 0x736f626f6c706978ULL);
-  Progress progress(o, range.count());
-  Checkpoints checkpoints(o, budget);
-  for (int s = first; s < target && !budget.expired(); s += step) {
-    // Whole rows per work item: each pixel is touched by one thread per pass, in sample order,
-    // so the sums are identical whatever the thread count. Pixels go to the integrator
-    // packetSize() at a time (neighbours in reading order), for integrators that trace their
-    // rays together; each keeps its own stream and sampler. An item holds as many rows as fit in
-    // one packet (one row for most integrators; e.g. 4 rows of 256 pixels for the path tracer's
-    // lanes, whose 16-lane packets stay fuller the more paths they draw from: Integrators in
-    // docs: explanation/determinism.md), a grouping fixed by the image's width alone. The budget is polled per packet.
-    const int rowsPerItem = std::max(1, std::min(integrator.packetSize() / W, H));
-    const int items = (H + rowsPerItem - 1) / rowsPerItem;
-    parallelFor(size_t(items), threads, [&](size_t item, int) {
+  // Whole rows per work item: each pixel is touched by one thread per pass, in sample order, so
+  // the sums are identical whatever the thread count. Pixels go to the integrator packetSize()
+  // at a time (neighbours in reading order), for integrators that trace their rays together;
+  // each keeps its own stream and sampler. An item holds as many rows as fit in one packet (one
+  // row for most integrators; several for the path tracer's lanes, whose packets stay fuller the
+  // more paths they draw from: docs explanation/determinism.md), a grouping fixed by the image's
+  // width alone. The budget is polled per packet.
+  const int rowsPerItem = std::max(1, std::min(integrator.packetSize() / W, H));
+  const int items = (H + rowsPerItem - 1) / rowsPerItem;
+  auto pass = [&](int s) {
+    parallelFor(size_t(items), session.threads, [&](size_t item, int) {
       const int y0 = int(item) * rowsPerItem, rows = std::min(rowsPerItem, H - y0);
       const int itemPixels = W * rows;
       const int packet = std::max(1, std::min(integrator.packetSize(), itemPixels));
@@ -123,13 +111,9 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         }
       }
     });
-    const int taken = (s - first) / step + 1;
-    progress.update(taken, budget.elapsed());
-    bool last = s + step >= target || budget.expired();
-    checkpoints.after(taken, last, infoAt, estimate);
-    if (last) break;
-  }
-  checkpoints.finish(infoAt, estimate);
+    return true;  // a pass the budget cut short counts: each pixel's estimate is its own mean
+  };
+  session.run(session.units(unitTarget(o.spp, o.timeLimit)), pass, infoAt, estimate);
   if (stats) {
     *stats = infoAt(true);
     if (o.sliced()) {
