@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "core/roulette.h"
 #include "bench/least_path_scene.h"
 #include "bsdfs/lambertian.h"
 #include "core/parallel.h"
@@ -191,9 +192,9 @@ LeastPathResult leastPathLoop(const Scene& scene, int width, int height, int spp
           cameraRay = false;
           ray = Ray{p + eps * n, wi, 0.0f, INFINITY};
 
-          if (depth >= 3) {  // Russian roulette, as the path tracer's
-            const float q = std::min(1.0f, maxComponent(beta));
-            if (q <= 0 || rng.uniform() >= q) break;
+          if (depth >= roulette::kFirstDepth) {  // Russian roulette by throughput, as the path tracer's
+            const float q = roulette::throughput(maxComponent(beta));
+            if (!roulette::survives(q, [&] { return rng.uniform(); })) break;
             beta /= q;
           }
         }

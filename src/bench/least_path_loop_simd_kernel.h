@@ -153,7 +153,8 @@ PL_HOT_INLINE void bounce(Lanes& P, int live, const LeastPathScene& least, const
   store(P.cameraRay, Ints{});
   store(P.ox, px + eps * sx), store(P.oy, py + eps * sy), store(P.oz, pz + eps * sz);
 
-  // Russian roulette from the fourth bounce: continue with q = min(1, max β), divide by q.
+  // Russian roulette by throughput (core/roulette.h) from the fourth bounce: continue with
+  // q = min(1, max β), divide by q.
   const Ints depth = load(P.depth), roulette = go & (depth >= 3);
   const Floats uRoulette = uniforms(P, roulette);
   const Floats q = min(splat(1.0f), max(nbr, max(nbg, nbb)));

@@ -28,6 +28,7 @@
 // light tracer does. Russian roulette (on the throughput, as the path tracer and light tracer)
 // is left out of the weights: they are still a partition of unity for every path, which is all
 // unbiasedness needs.
+#include "core/roulette.h"
 #include "integrators/bidirectional.h"
 
 #include <atomic>
@@ -200,10 +201,10 @@ class VertexConnectionMerging::Tracer {
       }
       if (path.length + 1 > o_.maxDepth) return;
       if (!scatter(hit, wo, TransportMode::Importance, sampler, path, o_.mergesAt(path.length))) return;
-      // Russian roulette from the 4th vertex, as the light tracer.
-      if (path.length >= 3) {
-        float q = std::min(1.0f, maxComponent(path.throughput));
-        if (!(q > 0) || sampler.get1D() >= q) return;
+      // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf, as the light tracer.
+      if (path.length >= roulette::kFirstDepth) {
+        const float q = roulette::throughput(maxComponent(path.throughput));
+        if (!roulette::survives(q, [&] { return sampler.get1D(); })) return;
         path.beta /= q;
         path.throughput /= q;
       }
@@ -304,10 +305,11 @@ class VertexConnectionMerging::Tracer {
         if (o_.merge && grid) merge(hit, woLocal, path, *grid, sink);
       }
       if (!scatter(hit, wo, TransportMode::Radiance, sampler, path, true)) return;
-      // Russian roulette from the 4th vertex, as the path tracer.
-      if (path.length >= 4) {
-        float q = russianRouletteSurvival(path.beta, path.etaScale);
-        if (!(q > 0) || sampler.get1D() >= q) return;
+      // Russian roulette by throughput (core/roulette.h), as the path tracer (the camera's
+      // vertex counts in the length: length 4 is the path tracer's depth 3).
+      if (path.length >= roulette::kFirstDepth + 1) {
+        const float q = roulette::throughput(maxComponent(path.beta), path.etaScale);
+        if (!roulette::survives(q, [&] { return sampler.get1D(); })) return;
         path.beta /= q;
       }
     }

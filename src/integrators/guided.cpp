@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/roulette.h"
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "integrators/path.h"
@@ -169,15 +170,15 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     float incident = guidePdf > 0 ? guideHere->radianceScale() * guidePdf : 0.0f;
     if (guidePdf > 0 && guideHere->cosineWeighted()) incident /= std::max(std::abs(wiLocal.z), 0.1f);
     if (pixel > 0 && incident > 0 && !sampledDelta) {
-      const float q = std::clamp(kWindow * average(beta) * incident / pixel, kFloor, 1.0f);
+      const float q = roulette::expectedContribution(average(beta), incident, pixel, kWindow, kFloor);
       if (q < 1) {
-        if (sampler.get1D() >= q) break;
+        if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
         beta /= q;
         rouletteBeta /= q;
       }
     } else if (depth >= kFallbackDepth) {
-      float q = russianRouletteSurvival(rouletteBeta, etaScale);
-      if (q <= 0 || sampler.get1D() >= q) break;
+      const float q = roulette::throughput(maxComponent(rouletteBeta), etaScale);
+      if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
       beta /= q;
       rouletteBeta /= q;
     }

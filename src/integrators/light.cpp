@@ -1,5 +1,6 @@
 #include "integrators/light.h"
 
+#include "core/roulette.h"
 #include "integrators/builtins.h"
 
 namespace pl {
@@ -72,10 +73,10 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
     Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
     beta *= weight;
     throughput *= weight;
-    // Russian roulette from the 4th bounce, as the path tracer: continue with q = min(1, max ∏).
-    if (depth >= 3) {
-      float q = std::min(1.0f, maxComponent(throughput));
-      if (!(q > 0) || rng.uniform() >= q) return;
+    // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf (beta carries watts).
+    if (depth >= roulette::kFirstDepth) {
+      const float q = roulette::throughput(maxComponent(throughput));
+      if (!roulette::survives(q, [&] { return rng.uniform(); })) return;
       beta /= q;
       throughput /= q;
     }

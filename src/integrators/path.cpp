@@ -1,5 +1,6 @@
 #include "integrators/path.h"
 
+#include "core/roulette.h"
 #include "integrators/builtins.h"
 
 namespace pl {
@@ -81,11 +82,10 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
     previousPoint = hit.p;
     ray = scene.spawnRay(hit, wi);
 
-    // Russian roulette: continue with probability q = min(1, max β·η²) (russianRouletteSurvival);
-    // dividing by q keeps the estimator unbiased.
-    if (depth >= 3) {
-      float q = russianRouletteSurvival(beta, etaScale);
-      if (q <= 0 || sampler.get1D() >= q) break;
+    // Russian roulette by throughput (core/roulette.h).
+    if (depth >= roulette::kFirstDepth) {
+      const float q = roulette::throughput(maxComponent(beta), etaScale);
+      if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
       beta /= q;
     }
     found = scene.intersect(ray, &next) ? &next : nullptr;

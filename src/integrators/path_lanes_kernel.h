@@ -306,7 +306,8 @@ PL_HOT_INLINE void shade(Paths& P, const RTCRayHit16& rh, const int32_t* valid, 
   store3(P.dx, P.dy, P.dz, wi);
   store(P.tmin, Floats{}), store(P.tmax, splat(INFINITY));
 
-  // Russian roulette from the fourth bounce: survive with q = min(1, max β · η²), then β /= q.
+  // Russian roulette by throughput (core/roulette.h) from the fourth bounce: survive with
+  // q = min(1, max β · η²), then β /= q.
   const Ints depth = load(P.depth), roulette = go & (depth >= 3);
   const Floats uRoulette = uniforms(P.state, P.increment, roulette);
   const Floats q = min(splat(1.0f), max(beta.x, max(beta.y, beta.z)) * etaScale);

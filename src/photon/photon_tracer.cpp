@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 
+#include "core/roulette.h"
 #include "bsdfs/lambertian.h"
 #include "core/memory.h"
 #include "core/parallel.h"
@@ -65,10 +66,9 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
       if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return;
       bs.weight *= shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
     }
-    // Russian roulette on the BSDF's albedo: survive with q = max(f cos/pdf), then divide by q,
-    // so the flux keeps its magnitude instead of shrinking bounce after bounce.
-    float q = std::min(1.0f, maxComponent(bs.weight));
-    if (!(q > 0) || rng.uniform() >= q) return;  // also ends on NaN
+    // Russian roulette by albedo (core/roulette.h), at every bounce.
+    const float q = roulette::albedo(maxComponent(bs.weight));
+    if (!roulette::survives(q, [&] { return rng.uniform(); })) return;
     flux *= bs.weight * (1.0f / q);
     if (!isFinite(flux)) return;  // a non-finite BSDF weight ends the path: it never reaches a map
     ray = scene.spawnRay(hit, wi);

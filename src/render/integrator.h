@@ -129,13 +129,4 @@ inline Spectrum escapedRadiance(const Scene& scene, const Vec3& direction, const
   return Le * powerHeuristic(bsdfPdf, lightPdf);
 }
 
-// Russian roulette's survival probability for a camera path of throughput β:
-// q = min(1, max β · etaScale), etaScale = ∏ η² over the path's refractions (pbrt-v4). Radiance
-// entering glass is compressed by 1/η² and expanded again on the way out; the path is no less
-// important inside, so the roulette divides the compression out. Without it a path inside
-// glass of η = 1.5 was cut with probability 1 − 1/η² = 56% at every bounce from the fourth on.
-inline float russianRouletteSurvival(const Spectrum& beta, float etaScale) {
-  return std::min(1.0f, maxComponent(beta) * etaScale);
-}
-
 }  // namespace pl
