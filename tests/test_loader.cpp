@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <set>
 
 #include "bsdfs/dielectric.h"
 #include "bsdfs/metallic_roughness.h"
@@ -15,6 +16,7 @@
 #include "scene_helpers.h"
 #include "render/renderer.h"
 #include "gltf_fixture.h"
+#include "scene/gltf_factories.h"
 #include "scene/gltf_loader.h"
 
 using namespace pl;
@@ -1443,4 +1445,51 @@ TEST_CASE("loader: COLOR_0 multiplies the base colour per vertex - per pixel thr
   int hits = 0;
   for (int i = 0; i < 20000; ++i) hits += blend->intersect(Ray{Vec3(0.2f, 1.0f + i * 1e-4f, 0.1f), Vec3(0, -1, 0)}, &hit);
   CHECK(hits / 20000.0 == Approx(64 / 255.0).margin(4 * 0.0031));
+}
+
+TEST_CASE("glTF factory tables: each row is the first to apply to its own case - the last material row takes any - names unique") {
+  auto firstMaterialRow = [](const GltfMaterial& m) {
+    for (const BSDFFactory& f : bsdfFactories())
+      if (f.applies(m)) return std::string(f.name);
+    return std::string("none");
+  };
+  GltfMaterial plain;  // the specification's defaults: metallic 1, roughness 1
+  plain.metallic = 0.0f;
+  CHECK(firstMaterialRow(plain) == "metallic-roughness");
+  GltfMaterial metal;
+  metal.roughness = 0.4f;
+  CHECK(firstMaterialRow(metal) == "ggx");
+  metal.roughness = 0.0f;
+  CHECK(firstMaterialRow(metal) == "mirror");
+  metal.mrTextured = true;  // a texture may vary metallic and roughness: the full model
+  CHECK(firstMaterialRow(metal) == "metallic-roughness");
+  GltfMaterial glass = plain;
+  glass.transmission = 1.0, glass.thickness = 0.1;
+  CHECK(firstMaterialRow(glass) == "dielectric");
+  GltfMaterial pane = plain;
+  pane.transmission = 1.0, pane.roughness = 0.0f;
+  CHECK(firstMaterialRow(pane) == "thin dielectric");
+  pane.transmission = 0.5;  // partly transmissive: the rough model's lobe
+  CHECK(firstMaterialRow(pane) == "metallic-roughness");
+  GltfMaterial wall = plain;
+  wall.lambertian = true;
+  CHECK(firstMaterialRow(wall) == "lambertian");
+  std::set<std::string> names;
+  for (const BSDFFactory& f : bsdfFactories()) CHECK(names.insert(f.name).second);
+  CHECK(bsdfFactories().back().applies(GltfMaterial()));
+
+  auto firstLightRow = [](const std::string& type, double warn) {
+    GltfLight l;
+    l.type = type, l.warnExponent = warn;
+    for (const LightFactory& f : lightFactories())
+      if (f.applies(l)) return std::string(f.name);
+    return std::string("none");
+  };
+  CHECK(firstLightRow("point", -1) == "point");
+  CHECK(firstLightRow("spot", -1) == "spot");
+  CHECK(firstLightRow("spot", 8) == "warn spotlight");
+  CHECK(firstLightRow("directional", -1) == "directional");
+  CHECK(firstLightRow("area", -1) == "none");  // the loader's one-line error names the field
+  names.clear();
+  for (const LightFactory& f : lightFactories()) CHECK(names.insert(f.name).second);
 }

@@ -489,8 +489,7 @@ class VertexConnectionMerging::Tracer {
     if (!hit.bsdf->sample(woLocal, bc, u, sampler.get1D(), &bs)) return false;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();
     const Vec3 wi = hit.shading.toWorld(bs.wi);
-    const bool transmitted = bs.wi.z * woLocal.z < 0;
-    if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return false;  // light leak
+    if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return false;
     const float cosOut = std::abs(glm::dot(wi, hit.ng));
     if (bs.delta) {
       path.dVCM = 0.0f;

@@ -138,9 +138,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       unguided = bsdfPdf > 0 ? fCos / bsdfPdf : weight;
     }
     if (isBlack(weight)) break;
-    // Reject directions that the shading normal allows but the geometry does not (light leaks).
-    bool transmitted = wiLocal.z * wo.z < 0;
-    if ((glm::dot(wiWorld, hit.ng) * glm::dot(-ray.d, hit.ng) < 0) != transmitted) break;
+    if (leaksLight(hit, -ray.d, wiWorld, wo, wiLocal)) break;
     beta *= weight;
     rouletteBeta *= unguided;
     etaScale *= eta * eta;

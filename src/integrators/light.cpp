@@ -67,9 +67,7 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
       return;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);
-    // Directions the shading normal allows but the geometry does not (light leaks) end the path.
-    bool transmitted = bs.wi.z * woLocal.z < 0;
-    if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return;
+    if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return;
     Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
     beta *= weight;
     throughput *= weight;

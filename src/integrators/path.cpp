@@ -72,9 +72,7 @@ Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, co
     if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), u, sampler.get1D(), &bs)) break;
     if (bs.terminatesSecondary) lambda.terminateSecondary();
     Vec3 wi = hit.shading.toWorld(bs.wi);
-    // Reject directions that the shading normal allows but the geometry does not (light leaks).
-    bool transmitted = bs.wi.z * wo.z < 0;
-    if ((glm::dot(wi, hit.ng) * glm::dot(-ray.d, hit.ng) < 0) != transmitted) break;
+    if (leaksLight(hit, -ray.d, wi, wo, bs.wi)) break;
     beta *= bs.weight;
     etaScale *= bs.eta * bs.eta;
     specularBounce = bs.delta;

@@ -62,8 +62,7 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     if (hit.shadingDiffers()) {
       // A direction the shading normal allows but the geometry does not would leak through the
       // surface; and a flux scattered with a shading normal needs Veach's adjoint correction.
-      bool transmitted = bs.wi.z * woLocal.z < 0;
-      if ((glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != transmitted) return;
+      if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return;
       bs.weight *= shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
     }
     // Russian roulette by albedo (core/roulette.h), at every bounce.

@@ -14,17 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/memory.h"
-#include "bsdfs/dielectric.h"
-#include "bsdfs/ggx_conductor.h"
-#include "bsdfs/lambertian.h"
-#include "bsdfs/metallic_roughness.h"
-#include "bsdfs/mirror.h"
-#include "bsdfs/phong.h"
-#include "bsdfs/thin_dielectric.h"
-#include "lights/directional_light.h"
-#include "lights/point_light.h"
-#include "lights/spot_light.h"
-#include "lights/warn_spotlight.h"
+#include "scene/gltf_factories.h"
 #include "image/tonemap.h"
 #include "scene/gltf_schema.h"
 #include "spectral/spectral.h"
@@ -167,6 +157,22 @@ class Loader {
   void warn(const std::string& what) {
     if (warnings_) warnings_->push_back(path_ + ": " + what);
   }
+  // What the factory tables (scene/gltf_factories.h) may ask while making material `index`'s
+  // BSDF or a light.
+  class Reader final : public GltfReader {
+   public:
+    Reader(Loader& loader, size_t index) : loader_(loader), index_(index) {}
+    [[noreturn]] void fail(const std::string& element, const std::string& what) const override { loader_.fail(element, what); }
+    void ignored(const std::string& what) override { loader_.ignoredInMaterial(index_, what); }
+    Spectrum spectrum(const tinygltf::Value& v, const std::string& element) override { return loader_.spectrumValue(v, element); }
+    void checkRange(const std::string& element, const Spectrum& s, float lo, float hi) override {
+      loader_.checkRange(element, s, lo, hi);
+    }
+
+   private:
+    Loader& loader_;
+    size_t index_;
+  };
 
   // Which units the file's light values are in: --units, else asset.extras.photonlab.units (what
   // photonlab's scripts write: "radiometric"), else the glTF specification's photometric units.
@@ -777,44 +783,32 @@ class Loader {
       if (metallic != 0 || mrTextured) fail(el + ".extras.photonlab.bsdf", "\"lambertian\" needs metallicFactor 0 and no metallicRoughnessTexture");
       lambertian = true;
     }
-    if (extras && extras->IsObject() && extras->Has("phong")) {
-      const tinygltf::Value& ph = extras->Get("phong");
-      std::string pel = el + ".extras.photonlab.phong";
-      if (!ph.IsObject() || !ph.Has("kd") || !ph.Has("ks") || !ph.Has("exponent") || !ph.Get("exponent").IsNumber())
-        fail(pel, "needs {kd, ks, exponent}");
-      Spectrum kd = spectrumValue(ph.Get("kd"), pel + ".kd"), ks = spectrumValue(ph.Get("ks"), pel + ".ks");
-      float n = float(ph.Get("exponent").GetNumberAsDouble());
-      checkRange(pel + ".kd", kd, 0.0f, 1.0f);
-      checkRange(pel + ".ks", ks, 0.0f, 1.0f);
-      checkRange(pel + ".kd+ks (energy conservation)", kd + ks, 0.0f, 1.0f);
-      if (!(n >= 0 && n < 1e6f)) fail(pel + ".exponent", "must be in [0, 1e6)");
-      out.bsdf = std::make_unique<Phong>(kd, ks, n);
-    } else if (transmission > 0 && thickness > 0) {
-      out.bsdf = std::make_unique<Dielectric>(float(ior), dispersion > 0 ? float(20.0 / dispersion) : 0.0f);
-      // Beer–Lambert inside (Scene::transmittance): attenuationColor after attenuationDistance.
-      out.attenuationColor = ColorTexture(attenuationColor);
-      out.attenuationDistance = float(attenuationDistance);
-    } else if (transmission == 1 && transmissionTexture < 0 && metallic == 0 && roughness == 0 && !mrTextured) {
-      // Thin-walled, smooth and wholly transmissive (a window pane): the delta limit of the
-      // transmission lobe below, so that photons and paths pass straight through it.
-      out.bsdf = std::make_unique<ThinDielectric>(base, float(ior));
-    } else if (lambertian && transmission == 0) {
-      out.bsdf = std::make_unique<Lambertian>(base);
-    } else if (metallic == 1.0f && roughness == 0.0f && !mrTextured) {
-      out.bsdf = std::make_unique<Mirror>(base);  // the metal lobe's limit α → 0, a delta
-    } else if (metallic == 1.0f && !mrTextured) {
-      out.bsdf = std::make_unique<GGXConductor>(base, roughness * roughness);  // = the metal lobe alone
-    } else {
-      ColorTexture mr(Spectrum(1.0f, roughness, metallic),
-                      textureImage(pbr.metallicRoughnessTexture.index, el + ".metallicRoughnessTexture", false),
-                      textureTransform(index, pbr.metallicRoughnessTexture, el + ".metallicRoughnessTexture"));
-      // Thin-walled transmission (no volume): factor × the linear texture's R.
-      ColorTexture through(Spectrum(float(transmission)),
-                           textureImage(transmissionTexture, el + ".KHR_materials_transmission.transmissionTexture", false));
-      if (transmission > 0 && ior != 1.5)
-        ignoredInMaterial(index, "KHR_materials_ior on a rough thin-walled surface is ignored (its Fresnel layer is glTF's ior 1.5)");
-      out.bsdf = std::make_unique<MetallicRoughness>(base, std::move(mr), std::move(through));
-    }
+    GltfMaterial desc;
+    desc.element = el;
+    desc.base = base;
+    desc.metallic = metallic, desc.roughness = roughness;
+    desc.mrTextured = mrTextured;
+    desc.metallicRoughness = [&] {
+      return ColorTexture(Spectrum(1.0f, roughness, metallic),
+                          textureImage(pbr.metallicRoughnessTexture.index, el + ".metallicRoughnessTexture", false),
+                          textureTransform(index, pbr.metallicRoughnessTexture, el + ".metallicRoughnessTexture"));
+    };
+    desc.transmission = transmission, desc.thickness = thickness, desc.ior = ior, desc.dispersion = dispersion;
+    desc.transmissionTexture = transmissionTexture;
+    // Thin-walled transmission (no volume): factor × the linear texture's R.
+    desc.transmissionColor = [&] {
+      return ColorTexture(Spectrum(float(transmission)),
+                          textureImage(transmissionTexture, el + ".KHR_materials_transmission.transmissionTexture", false));
+    };
+    desc.attenuationColor = attenuationColor, desc.attenuationDistance = attenuationDistance;
+    desc.lambertian = lambertian;
+    desc.extras = extras;
+    Reader reader(*this, index);
+    for (const BSDFFactory& factory : bsdfFactories())
+      if (factory.applies(desc)) {
+        out.bsdf = factory.make(desc, reader, out);
+        break;
+      }
     return out;
   }
 
@@ -938,35 +932,24 @@ class Loader {
       color = equalEnergyRGB();
       I = color * intensity;
     }
-    auto add = [&](std::unique_ptr<Light> light) {
-      light->temperature = float(temperature);
-      light->equalEnergy = equalEnergy;
-      scene_->addLight(std::move(light));
-    };
-    Spectrum flux = color * float(power);  // `power` is the flux of a white light; colour scales it
-    Vec3 position(world * glm::vec4(0, 0, 0, 1));
-    Vec3 direction = glm::normalize(Vec3(world * glm::vec4(0, 0, -1, 0)));
-    if (!isFinite(position) || !isFinite(direction)) fail(el, "degenerate light transform");
-
-    if (l.type == "point") {
-      add(std::make_unique<PointLight>(position, power >= 0 ? PointLight::intensityForPower(flux) : I));
-    } else if (l.type == "spot") {
-      if (warn >= 0) {
-        float s = float(warn);
-        add(std::make_unique<WarnSpotlight>(position, direction,
-                                                         power >= 0 ? WarnSpotlight::cForPower(flux, s) : I, s));
+    GltfLight desc;
+    desc.element = el, desc.type = l.type;
+    desc.position = Vec3(world * glm::vec4(0, 0, 0, 1));
+    desc.direction = glm::normalize(Vec3(world * glm::vec4(0, 0, -1, 0)));
+    if (!isFinite(desc.position) || !isFinite(desc.direction)) fail(el, "degenerate light transform");
+    desc.color = color, desc.I = I;
+    desc.power = power, desc.warnExponent = warn;
+    desc.innerCone = float(l.spot.innerConeAngle), desc.outerCone = float(l.spot.outerConeAngle);
+    Reader reader(*this, size_t(-1));
+    for (const LightFactory& factory : lightFactories())
+      if (factory.applies(desc)) {
+        std::unique_ptr<Light> light = factory.make(desc, reader);
+        light->temperature = float(temperature);
+        light->equalEnergy = equalEnergy;
+        scene_->addLight(std::move(light));
         return;
       }
-      float inner = float(l.spot.innerConeAngle), outer = float(l.spot.outerConeAngle);
-      if (!(inner >= 0 && inner < outer && outer <= kPi / 2 + 1e-6f))
-        fail(el + ".spot", "need 0 ≤ innerConeAngle < outerConeAngle ≤ π/2");
-      add(std::make_unique<SpotLight>(
-          position, direction, power >= 0 ? SpotLight::intensityForPower(flux, inner, outer) : I, inner, outer));
-    } else if (l.type == "directional") {
-      add(std::make_unique<DirectionalLight>(direction, power >= 0 ? color : I, float(power)));
-    } else {
-      fail(el + ".type", "unknown light type '" + l.type + "'");
-    }
+    fail(el + ".type", "unknown light type '" + l.type + "'");
   }
 
   // A primitive photonlab renders (triangles, strips, fans), with its POSITION: nullptr for

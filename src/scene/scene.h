@@ -68,6 +68,12 @@ struct SurfaceHit {
 inline bool sidesAgree(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi, const Vec3& woLocal, const Vec3& wiLocal) {
   return (glm::dot(wo, hit.ng) * glm::dot(wi, hit.ng) > 0) == (woLocal.z * wiLocal.z > 0);
 }
+// The same rule for a direction wi a path has sampled from wo: true when the two normals
+// disagree on transmission (a light leak), and the path ends there. A direction in the surface
+// counts as reflected.
+inline bool leaksLight(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi, const Vec3& woLocal, const Vec3& wiLocal) {
+  return (glm::dot(wi, hit.ng) * glm::dot(wo, hit.ng) < 0) != (wiLocal.z * woLocal.z < 0);
+}
 
 // The BSDF's context at a surface point: its uv and vertex colour.
 inline BSDFContext bsdfContext(const SurfaceHit& hit, const SampledWavelengths& lambda = SampledWavelengths::rgb(),
