@@ -33,7 +33,7 @@ class Sampler {
   PL_HOT_INLINE float get1D() { return sobol_ && slot_ < slots_ ? next().x : rng_.uniform(); }
   PL_HOT_INLINE Vec2 get2D() {
     if (sobol_ && slot_ < slots_) return next();
-    const float y = rng_.uniform();  // y first: the order GCC gave the two draws as arguments
+    const float y = rng_.uniform();  // y first, as every image so far and the SIMD lanes draw them
     return Vec2(rng_.uniform(), y);
   }
   bool sobol() const { return sobol_; }

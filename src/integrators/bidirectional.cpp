@@ -649,7 +649,7 @@ ImageRGB VertexConnectionMerging::render(const Scene& scene, const RenderOptions
     // merges through the grid. `perStrategy`: the caller's scratch, one entry per technique.
     auto cameraPath = [&](size_t pixel, std::vector<Spectrum>& perStrategy, uint64_t& nonFiniteHere) {
       const int x = int(pixel % size_t(W)), y = int(pixel / size_t(W));
-      CameraPath c = beginCameraPath(scene, rgbImage, x, y, uint64_t(iteration), JitterOrder::XThenY);
+      CameraPath c = beginCameraPath(scene, rgbImage, x, y, uint64_t(iteration));
       c.lambda = wavelengths(pixel);
       std::fill(perStrategy.begin(), perStrategy.end(), Spectrum(0.0f));
       Sink sink;

@@ -407,7 +407,7 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
         for (int x = 0; x < W; ++x) {
           if (budget.expired()) return;
           const size_t pixel = size_t(y) * W + x;
-          CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample), JitterOrder::XThenY);
+          CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample));
           Sampler sampler(path.rng);
           Spectrum L = unguided ? pathTracer.Li(path.ray, scene, path.lambda, sampler)
                                 : Li(path.ray, scene, path.lambda, sampler, *guide, record, thread, pixelValue(pixel));

@@ -102,10 +102,9 @@ struct PassSetup : RenderSession {
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
                             bool spectral, const Budget* budget);
 
-// The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0), jittered
-// y first (render/camera_path.h).
+// The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0).
 inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
-  return beginCameraPath(scene, image, x, y, pass, JitterOrder::YThenX);
+  return beginCameraPath(scene, image, x, y, pass);
 }
 
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light

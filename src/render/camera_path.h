@@ -11,30 +11,17 @@
 
 namespace pl {
 
-// The order of the two jitter draws. The per-pixel loop draws x first; the progressive eye
-// passes y first (the order GCC gave those draws when they were function arguments, stated so
-// that images do not depend on the compiler). Either is uniform; changing one changes its
-// images bit for bit, so each loop keeps its own.
-enum class JitterOrder { XThenY, YThenX };
-
 struct CameraPath {
   Rng rng;
   Ray ray;
   SampledWavelengths lambda;
 };
 
-inline CameraPath beginCameraPath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t sample,
-                                  JitterOrder order) {
+inline CameraPath beginCameraPath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t sample) {
   const uint64_t pixel = uint64_t(y) * uint64_t(image.width) + uint64_t(x);
   CameraPath c{Rng::keyed(image.seed, pixel, sample), Ray{}, SampledWavelengths()};
-  float jx, jy;
-  if (order == JitterOrder::XThenY) {
-    jx = c.rng.uniform();
-    jy = c.rng.uniform();
-  } else {
-    jy = c.rng.uniform();
-    jx = c.rng.uniform();
-  }
+  const float jx = c.rng.uniform();  // two statements: the order of the draws is fixed, x first
+  const float jy = c.rng.uniform();
   c.ray = scene.cameraRay(x + jx, y + jy, image.width, image.height);
   if (image.spectral) c.lambda = SampledWavelengths::sample(c.rng.uniform());
   return c;

@@ -89,7 +89,7 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
         for (int k = 0; k < n; ++k) {
           const int x = (i0 + k) % W, y = y0 + (i0 + k) / W;
           const uint64_t pixel = uint64_t(y) * W + x;
-          paths[k] = beginCameraPath(scene, o, x, int(y), uint64_t(s), JitterOrder::XThenY);
+          paths[k] = beginCameraPath(scene, o, x, int(y), uint64_t(s));
           Sampler& sampler = samplers[k].emplace(paths[k].rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
           jitterFromSampler(scene, x, int(y), W, H, sampler, &paths[k].ray);
           samples[k] = {paths[k].ray, &paths[k].lambda, &sampler};
