@@ -2,7 +2,12 @@
 // determinism across thread counts.
 #include <catch2/catch.hpp>
 
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+
 #include "bsdfs/dielectric.h"
+#include "core/parallel.h"
 #include "bsdfs/lambertian.h"
 #include "lights/point_light.h"
 #include "lights/warn_spotlight.h"
@@ -317,4 +322,43 @@ TEST_CASE("width alone keeps the camera's aspect ratio") {
   resolveResolution(cam, p);
   CHECK(p.width == 512);
   CHECK(p.height == 384);
+}
+
+TEST_CASE("parallelFor on the pool: every item once, thread indices below the count - nested, concurrent, throwing - rays counted") {
+  auto check = [](size_t count, int threads) {
+    std::vector<std::atomic<int>> seen(count);
+    std::atomic<int> badIndex{0};
+    parallelFor(count, threads, [&](size_t i, int t) {
+      ++seen[i];
+      if (t < 0 || t >= threads) ++badIndex;
+    });
+    int wrong = badIndex.load();
+    for (auto& n : seen) wrong += n.load() != 1;
+    return wrong;
+  };
+  CHECK(check(10000, 2) == 0);
+  CHECK(check(10000, 5) == 0);  // more threads than the last loop: the pool grows
+  CHECK(check(3, 8) == 0);      // more threads than items
+  // A loop inside a loop's item runs on threads of its own (the pool is busy): all items still once.
+  std::atomic<int> inner{0};
+  parallelFor(8, 2, [&](size_t, int) { parallelFor(100, 2, [&](size_t, int) { ++inner; }); });
+  CHECK(inner == 800);
+  // Two threads' loops at once: one has the pool, the other its own threads.
+  int a = -1, b = -1;
+  std::thread other([&] { a = check(20000, 2); });
+  b = check(20000, 2);
+  other.join();
+  CHECK(a == 0);
+  CHECK(b == 0);
+  // An exception in an item reaches the caller, and the pool serves the next loop.
+  CHECK_THROWS_AS(parallelFor(1000, 2, [](size_t i, int) {
+                    if (i == 500) throw std::runtime_error("item 500");
+                  }),
+                  std::runtime_error);
+  CHECK(check(1000, 2) == 0);
+  // Rays counted on the pool's threads, which never exit, are in the total at once.
+  const uint64_t before = Scene::raysTraced(), shadowBefore = Scene::shadowRaysTraced();
+  parallelFor(1000, 2, [](size_t, int) { Scene::countRays(3, 2); });
+  CHECK(Scene::raysTraced() - before == 5000);
+  CHECK(Scene::shadowRaysTraced() - shadowBefore == 2000);
 }

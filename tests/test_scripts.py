@@ -633,3 +633,25 @@ def test_src_folders_are_layered_without_cycles(tmp_path):
     (tmp_path / "newfolder").mkdir()
     assert any("newfolder" in p for p in check_layers.check(str(tmp_path))[0])
     assert run_script("check_layers.py", "--quiet", "--src", str(tmp_path)).returncode == 1
+
+
+def test_compare_convergence_agrees_with_itself_and_tells_a_different_estimate(tmp_path):
+    # The same build twice: every region's z is 0. A "build" that stops paths after one bounce
+    # (a wrapper adding --max-depth 1) loses the indirect light of the box: the script says so
+    # and exits 1.
+    assert os.access(PHOTONLAB, os.X_OK), "build/photonlab is missing: run scripts/setup.sh"
+    scene = os.path.join(ROOT, "scenes", "cornell-box.gltf")
+    extra = ["--", "--width", "24", "--spp", "8"]
+    same = run_script("compare_convergence.py", PHOTONLAB, PHOTONLAB, scene, "--integrator", "path", "--seeds", "4",
+                      "--tiles", "4", *extra)
+    assert same.returncode == 0, same.stderr
+    assert "max |z| 0.00" in same.stdout and "agree" in same.stdout
+    shallow = tmp_path / "shallow"
+    shallow.write_text(f'#!/bin/sh\nexec "{PHOTONLAB}" "$@" --max-depth 1\n')
+    shallow.chmod(0o755)
+    table = tmp_path / "table.md"
+    differ = run_script("compare_convergence.py", PHOTONLAB, str(shallow), scene, "--integrator", "path", "--seeds", "4",
+                        "--tiles", "4", "--markdown", str(table), *extra)
+    assert differ.returncode == 1, differ.stdout + differ.stderr
+    assert "DIFFER" in differ.stdout
+    assert "| path | 16 |" in table.read_text()

@@ -10,6 +10,9 @@
 
 namespace pl {
 
+// The render switches that serve debugging and measurement (said in its --help and on the CLI page).
+std::string debugSwitches();
+
 namespace {
 
 const char* const kGenerated =
@@ -69,6 +72,7 @@ std::string cliPage(CLI::App& app) {
       s << "| `" << cell(name) << "`" << (o->get_required() ? " (required)" : "") << " | " << cell(value) << " | "
         << (def.empty() ? " " : "`" + cell(def) + "`") << " | " << cell(o->get_description()) << " |\n";
     }
+    if (sub->get_name() == "render") s << "\n" << debugSwitches() << "\n";
   }
   return s.str();
 }
@@ -126,10 +130,17 @@ const std::vector<SubcommandDoc>& subcommandDocs() {
   return docs;
 }
 
+std::string debugSwitches() {
+  return "Debug and measurement switches, not for results: --only-s and --only-t (bdpt: one technique alone, "
+         "unweighted); the environment variable PHOTONLAB_LANES_ISA=baseline|avx512 (the instruction set of the path "
+         "tracer's SIMD lanes, for measuring them).";
+}
+
 std::string helpFooter(const std::string& subcommand) {
   for (const SubcommandDoc& d : subcommandDocs())
     if (d.name == subcommand)
-      return "Documentation: docs/pages/" + d.guide + " and docs/pages/reference/cli.md (the site: mkdocs serve -f docs/mkdocs.yml)";
+      return (subcommand == "render" ? debugSwitches() + "\n" : std::string()) + "Documentation: docs/pages/" + d.guide +
+             " and docs/pages/reference/cli.md (the site: mkdocs serve -f docs/mkdocs.yml)";
   return "Documentation: docs/pages/index.md (the site: mkdocs serve -f docs/mkdocs.yml)";
 }
 
