@@ -30,6 +30,17 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 std::string scenePath(const char* name) { return std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/" + name; }
 
+// A size×size render on one thread with a time budget alone, 1 s on `clock`.
+RenderOptions clocked(int size, SteppingClock& clock) {
+  RenderOptions ro;
+  ro.width = ro.height = size;
+  ro.spp = 0;
+  ro.threads = 1;
+  ro.timeLimit = 1.0;
+  ro.clock = &clock;
+  return ro;
+}
+
 }  // namespace
 
 TEST_CASE("budget: expires when its time is spent - not while paused - never without a limit - at once on an interrupt") {
@@ -146,12 +157,7 @@ TEST_CASE("budget: the photon integrator stops inside its photon maps or its fin
   {
     auto pm = makeWith("photon", {{"photons", 20000}, {"caustic_photons", 20000}, {"final_gather", 4}});
     SteppingClock clock(0.01);
-    RenderOptions ro;
-    ro.width = ro.height = 64;
-    ro.spp = 0;
-    ro.threads = 1;
-    ro.timeLimit = 1.0;
-    ro.clock = &clock;
+    RenderOptions ro = clocked(64, clock);
     RenderInfo st;
     ImageRGB img = render(*scene, *pm, ro, &st);
     INFO("stats " << st.seconds << " s, mean spp " << st.meanWork);
@@ -165,12 +171,7 @@ TEST_CASE("budget: the photon integrator stops inside its photon maps or its fin
   {
     auto pm = makeWith("photon", {{"photons", 30000000}, {"caustic_photons", 0}});
     SteppingClock clock(0.05);
-    RenderOptions ro;
-    ro.width = ro.height = 16;
-    ro.spp = 0;
-    ro.threads = 1;
-    ro.timeLimit = 1.0;
-    ro.clock = &clock;
+    RenderOptions ro = clocked(16, clock);
     RenderInfo st;
     render(*scene, *pm, ro, &st);
     CHECK(st.timeUp);
@@ -193,12 +194,7 @@ TEST_CASE("budget: path guiding's time budget covers training and photon tracing
   for (const Case& c : {Case{"sdtree", 1e5, 2e4}, Case{"photons", 1e5, 2e4}, Case{"photons", 2e7, 200}}) {
     INFO(c.guide << ", " << c.photons << " photons, " << c.polls << " polls");
     SteppingClock clock(1.0 / c.polls);
-    RenderOptions ro;
-    ro.width = ro.height = 48;
-    ro.spp = 0;
-    ro.threads = 1;
-    ro.timeLimit = 1.0;
-    ro.clock = &clock;
+    RenderOptions ro = clocked(48, clock);
     RenderInfo st;
     ImageRGB img = makeWith("guided", {{"photons", c.photons}}, ro, {{"guide", c.guide}})->render(*scene, ro, &st);
     INFO(st.meanWork << " spp on average");
