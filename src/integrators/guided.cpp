@@ -87,11 +87,10 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
     // it sum to one, h(p_light, p_bsdf) + h(p_bsdf, p_light) = 1, whatever densities they are
     // computed with, and the emission hit uses the same pair; its estimate f·cos·Le/p is still
     // divided by the mixture density it was drawn with. The guide's density for the light's
-    // direction would cost a quadtree descent at every vertex (5% of the render on the Cornell
-    // box) to shift weight from next-event estimation, which is good at direct light, to the
-    // guide; with this pair the guide also learns less of the light that next-event estimation
-    // already finds, since the hits it records are weighted down. Equal relMSE at equal
-    // samples on the Cornell box (1024 spp, 2 seeds), 4–5% less time.
+    // direction would cost a quadtree descent at every vertex to shift weight from next-event
+    // estimation, which is good at direct light, to the guide; with this pair the guide also
+    // learns less of the light that next-event estimation already finds, since the hits it
+    // records are weighted down (what it saves: docs explanation/guiding.md).
     if (!delta) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
 
     // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is

@@ -29,8 +29,7 @@ class PathIntegrator final : public PixelIntegrator {
   const std::string& lanesUnused() const { return lanesUnused_; }
   // The most camera samples handed to the lanes at once: as many whole rows as fit (a longer
   // row in pieces). The fewer paths a batch holds, the emptier its last packets run as paths
-  // end: 256² at 64 spp took 3–4% less time in batches of 4 rows than of one (1024 against 256
-  // paths; 8 rows measured the same as 4, and fewer, larger work items balance worse).
+  // end (the batch size measured: docs explanation/performance.md).
   static constexpr int kLanesBatch = 1024;
   const char* name() const override { return "path"; }
   int sobolSlots() const override { return sobol_ ? kSobolSlots : 0; }

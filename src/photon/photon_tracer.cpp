@@ -51,8 +51,8 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
     Vec3 woLocal = hit.shading.toLocal(wo);
     Vec2 u(rng.uniform(), rng.uniform());
     float uc = rng.uniform();
-    // Diffuse hits, most of them, call Lambertian (final) directly, inlined here: the virtual
-    // call and BSDFSample's round trip through memory measured 3–4% of photon tracing.
+    // Diffuse hits, most of them, call Lambertian (final) directly, inlined here, without the
+    // virtual call (docs explanation/performance.md, Photon maps).
     const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
     bool sampled = hit.bsdf->bsdfClass() == BSDFClass::kLambertian ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
                                             : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
