@@ -190,35 +190,52 @@ inline void checkFurnace(const ImageRGB& a, const ImageRGB& b) {
 }
 
 // Two estimators a and b of one image, each rendered with two seeds, compared over B×B regions:
-// z = (mean_a − mean_b)/√(var_a + var_b), the variances from the seeds' per-pixel differences.
+// z = (mean_a − mean_b)/σ. σ² starts from the seeds' per-pixel differences summed over the
+// region, which is the variance of the region's mean when its pixels' errors are independent.
+// Density estimation makes neighbours share photons (or merged light vertices), and then the
+// region's mean varies more than its pixels' sum says: the seeds' region means, which differ by
+// that true variance, give the factor F = Σ (m₁ − m₂)²/4 / Σ (per-pixel estimate) over all
+// regions and both estimators (hundreds of degrees of freedom), and σ² is scaled by max(1, F).
+// F comes from each estimator's own two seeds, never from a against b, so a bias still shows.
 struct RegionAgreement {
   double worst = 0, meanZ2 = 0;
+  double correlation = 1;  // max(1, F)
 };
 inline RegionAgreement regions(const ImageRGB& a1, const ImageRGB& a2, const ImageRGB& b1, const ImageRGB& b2, int B,
                         double floor = 0) {
   const int W = a1.width, H = a1.height;
-  RegionAgreement r;
-  int n = 0;
+  const double k = double(B) * B;
+  struct Region {
+    double difference, pixelVariance;  // mean_a − mean_b; the per-pixel estimate of its variance
+  };
+  std::vector<Region> found;
+  double seedVariance = 0, pixelVariance = 0;  // Σ over regions, both estimators
   for (int by = 0; by < H / B; ++by)
     for (int bx = 0; bx < W / B; ++bx)
       for (int c = 0; c < 3; ++c) {
-        double ma = 0, mb = 0, va = 0, vb = 0;
+        double a1s = 0, a2s = 0, b1s = 0, b2s = 0, va = 0, vb = 0;
         for (int y = by * B; y < (by + 1) * B; ++y)
           for (int x = bx * B; x < (bx + 1) * B; ++x) {
             size_t i = (size_t(y) * W + x) * 3 + c;
-            ma += (a1.data[i] + a2.data[i]) / 2, mb += (b1.data[i] + b2.data[i]) / 2;
+            a1s += a1.data[i], a2s += a2.data[i], b1s += b1.data[i], b2s += b2.data[i];
             double da = a1.data[i] - a2.data[i], db = b1.data[i] - b2.data[i];
             va += da * da / 2, vb += db * db / 2;
           }
-        const double k = double(B) * B;
-        const double sigma = std::sqrt((va + vb) / (k * k) / 2);
-        if (sigma <= floor) continue;  // nothing there (black regions) in either
-        double z = (ma / k - mb / k) / sigma;
-        r.worst = std::max(r.worst, std::abs(z));
-        r.meanZ2 += z * z;
-        ++n;
+        const double pixelEstimate = (va + vb) / (k * k) / 2;  // Var(mean_a) + Var(mean_b), two seeds each
+        if (std::sqrt(pixelEstimate) <= floor) continue;  // nothing there (black regions) in either
+        const double da = (a1s - a2s) / k, db = (b1s - b2s) / k;
+        seedVariance += (da * da + db * db) / 4;
+        pixelVariance += pixelEstimate;
+        found.push_back({((a1s + a2s) - (b1s + b2s)) / (2 * k), pixelEstimate});
       }
-  r.meanZ2 /= std::max(1, n);
+  RegionAgreement r;
+  r.correlation = pixelVariance > 0 ? std::max(1.0, seedVariance / pixelVariance) : 1.0;
+  for (const Region& g : found) {
+    const double z = g.difference / std::sqrt(g.pixelVariance * r.correlation);
+    r.worst = std::max(r.worst, std::abs(z));
+    r.meanZ2 += z * z;
+  }
+  r.meanZ2 /= std::max<size_t>(1, found.size());
   return r;
 }
 

@@ -1087,7 +1087,7 @@ SurfaceAgreement sameSurfaces(const Scene& a, const Scene& b) {
 }
 
 // Scenes a and b lit by emissive surfaces render the same 32² images, region by region (4×4
-// pixels) within their noise: through shadow rays (path, 64 spp) and through photons alone
+// pixels, 8×8 for PPM) within their noise: through shadow rays (path, 64 spp) and through photons alone
 // (PPM, 8 passes of 50 000 photons), two seeds each.
 void sameImages(const Scene& a, const Scene& b) {
   RenderOptions o;
@@ -1103,7 +1103,12 @@ void sameImages(const Scene& a, const Scene& b) {
       }
       return makeWith("ppm", {{"passes", 8}, {"photons_per_pass", 50000}, {"radius", 0.05f}})->render(s, r, nullptr);
     };
-    RegionAgreement r = regions(image(a, 1), image(a, 2), image(b, 3), image(b, 4), 4, 1e-6);
+    // z's variance comes from two seeds' pixels: with t-like tails, E[z²] = ν/(ν − 2) for ν
+    // degrees of freedom. Path-traced pixels are independent (ν ≈ 30 over 4×4 pixels); PPM's
+    // neighbours share photons, which leaves ν ≈ 5 at 4×4 (mean z² 1.7 ± 0.34 over the 192
+    // regions: 2.0 failed by chance), so its regions are 8×8 (ν > 20, mean z² ≈ 1.1 ± 0.2).
+    RegionAgreement r = regions(image(a, 1), image(a, 2), image(b, 3), image(b, 4), std::string(name) == "ppm" ? 8 : 4, 1e-6);
+    INFO("mean z2 " << r.meanZ2 << ", worst |z| " << r.worst << ", correlation factor " << r.correlation);
     CHECK(r.meanZ2 < 2.0);
     CHECK(r.worst < 5.0);
   }
