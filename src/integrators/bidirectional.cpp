@@ -34,8 +34,6 @@
 #include <atomic>
 #include <cmath>
 
-#include "core/interrupt.h"
-#include "core/memory.h"
 #include "core/sampler.h"
 #include "core/parallel.h"
 #include "integrators/builtins.h"

@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "core/roulette.h"
-#include "core/memory.h"
 #include "core/parallel.h"
 #include "integrators/path.h"
 #include "integrators/builtins.h"

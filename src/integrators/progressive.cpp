@@ -1,6 +1,5 @@
 #include "integrators/progressive.h"
 
-#include "core/memory.h"
 #include "core/parallel.h"
 #include "render/visible_probe.h"
 #include "spectral/spectral.h"

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "core/budget.h"
-#include "core/interrupt.h"
 #include "render/integrator.h"
 #include "integrators/params.h"
 #include "photon/photon_tracer.h"

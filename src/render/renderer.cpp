@@ -1,14 +1,8 @@
 #include "render/renderer.h"
 
-#include <unistd.h>
-
-#include <chrono>
-#include <cstdio>
 #include <optional>
 
 #include "core/budget.h"
-#include "core/interrupt.h"
-#include "core/memory.h"
 #include "core/parallel.h"
 #include "render/camera_path.h"
 #include "render/session.h"
