@@ -6,10 +6,10 @@
 #include <cmath>
 #include <limits>
 
-#include "core/roulette.h"
 #include "core/parallel.h"
-#include "integrators/path.h"
 #include "integrators/builtins.h"
+#include "integrators/path.h"
+#include "integrators/path_step.h"
 #include "render/camera_path.h"
 #include "render/session.h"
 #include "spectral/spectral.h"
@@ -31,162 +31,151 @@ struct PathVertex {
   float wi[3], pdf, beta[3], before[3];
 };
 constexpr int kRecordedVertices = 64;  // deeper vertices are not recorded (they carry ~nothing)
-// Russian roulette (see Li): the weight window's factor, the least survival probability, and
-// the bounce from which a path without the guide's estimate faces the path tracer's roulette.
+// Russian roulette (GuidedSampling::survives): the weight window's factor, the least survival
+// probability, and the bounce from which a path without the guide's estimate faces the path
+// tracer's roulette (how they were chosen: docs explanation/guiding.md).
 constexpr float kWindow = 5.0f, kFloor = 0.1f;
 constexpr int kFallbackDepth = 8;
+
+// The guided path's strategy for the shared vertex step (path_step.h): directions from a
+// mixture of the BSDF and the guide, roulette by expected contribution, and the records the
+// guide trains on.
+class GuidedSampling {
+ public:
+  GuidedSampling(const Guide& guide, float bsdfFraction, bool record, float pixel)
+      : guide_(guide), bsdfFraction_(bsdfFraction), record_(record), pixel_(pixel) {}
+
+  void attenuate(const Spectrum& transmittance) { rouletteBeta_ *= transmittance; }
+
+  // The guide at this point, on the side of the surface the path is on (the geometric normal
+  // turned towards it); where it knows nothing the BSDF samples alone (α = 1). Looked up before
+  // next-event estimation so that its top levels load while the shadow ray is traced.
+  void arrive(const SurfaceHit& hit, const Ray& ray) {
+    delta_ = hit.bsdf->isSpecular();
+    here_ = delta_ ? GuideLookup{nullptr, 0} : guide_.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
+    if (here_.distribution) here_.distribution->prefetch();
+    alpha_ = here_.distribution && !here_.distribution->empty() ? bsdfFraction_ : 1.0f;
+  }
+
+  // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
+  // f·|cosθ|/(α p_bsdf + (1 − α) p_guide) whichever drew the direction (Veach's balance
+  // heuristic for one sample), so the estimate is unbiased for any guide, and bounded by 1/α
+  // times BSDF sampling's where the guide is poor. MIS against next-event estimation uses BSDF
+  // sampling's density alone (misPdf): the weights of a path over the techniques that can make
+  // it need only sum to one, h(p_light, p_bsdf) + h(p_bsdf, p_light) = 1, and the guide's density
+  // for the light's direction would cost a quadtree descent at every vertex (docs
+  // explanation/guiding.md).
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, SampledWavelengths& lambda, Sampler& sampler, ScatterSample* s) {
+    const BSDFContext bc = bsdfContext(hit, lambda);
+    const DirectionalQuadtree* guide = here_.distribution;
+    guidePdf_ = 0.0f;
+    const float uSelect = alpha_ < 1.0f ? sampler.get1D() : 0.0f;
+    Vec2 u = sampler.get2D();
+    if (uSelect < alpha_) {
+      BSDFSample bs;
+      if (!hit.bsdf->sample(wo, bc, u, sampler.get1D(), &bs)) return false;
+      if (bs.terminatesSecondary) lambda.terminateSecondary();
+      s->wiLocal = bs.wi;
+      s->wiWorld = hit.shading.toWorld(bs.wi);
+      s->eta = bs.eta;
+      s->delta = bs.delta;
+      s->misPdf = bs.pdf;
+      unguided_ = bs.weight;
+      if (bs.delta || alpha_ == 1.0f) {
+        // Only the BSDF can draw a delta lobe, and where α = 1 it is the only technique.
+        s->weight = bs.weight / alpha_;
+        s->pdf = bs.pdf * alpha_;
+      } else {
+        guidePdf_ = guide->pdf(s->wiWorld);
+        s->pdf = alpha_ * bs.pdf + (1 - alpha_) * guidePdf_;
+        s->weight = s->pdf > 0 ? hit.bsdf->eval(wo, s->wiLocal, bc) * (std::abs(s->wiLocal.z) / s->pdf) : Spectrum(0.0f);
+      }
+    } else {
+      s->wiWorld = guide->sample(u, &guidePdf_);
+      s->wiLocal = hit.shading.toLocal(s->wiWorld);
+      const float bsdfPdf = hit.bsdf->pdf(wo, s->wiLocal, bc);
+      s->misPdf = bsdfPdf;
+      s->pdf = alpha_ * bsdfPdf + (1 - alpha_) * guidePdf_;
+      const Spectrum fCos = hit.bsdf->eval(wo, s->wiLocal, bc) * std::abs(s->wiLocal.z);
+      s->weight = s->pdf > 0 ? fCos / s->pdf : Spectrum(0.0f);
+      unguided_ = bsdfPdf > 0 ? fCos / bsdfPdf : s->weight;
+      s->eta = 1.0f;
+      s->delta = false;
+    }
+    sampledDelta_ = s->delta;
+    cosine_ = std::abs(s->wiLocal.z);
+    return !isBlack(s->weight);  // a zero weight ends the path: nothing it finds could count
+  }
+
+  void scattered(const PathState& p, const SurfaceHit&, const ScatterSample& s) {
+    rouletteBeta_ *= unguided_;
+    if (record_ && !delta_ && recorded_ < kRecordedVertices)
+      vertices_[recorded_++] = {here_.leaf, {s.wiWorld.x, s.wiWorld.y, s.wiWorld.z}, s.pdf,
+                                {p.beta.r, p.beta.g, p.beta.b}, {p.L.r, p.L.g, p.L.b}};
+  }
+
+  // Russian roulette by expected contribution where the guide knows it (adjoint-driven roulette,
+  // Vorba and Křivánek 2016, without splitting): the rest of the path is expected to bring
+  // β·L̂_i(x, ω), L̂_i from the guide (DirectionalQuadtree::radianceScale), against the pixel's
+  // value Ĩ from the iterations before. The path tracer's rule on β would end exactly the paths
+  // the guide sends where light comes from (their weight f·cos/p is small because p is high).
+  // Elsewhere (no pixel value yet, no learned guide here, a specular bounce): the throughput
+  // rule from kFallbackDepth on β′, the product of BSDF sampling's weights f·cos/p_bsdf, which
+  // the guide does not shrink (with no guide β′ = β). Any q > 0 keeps the estimate unbiased.
+  bool survives(PathState& p, Sampler& sampler) {
+    float incident = guidePdf_ > 0 ? here_.distribution->radianceScale() * guidePdf_ : 0.0f;
+    if (guidePdf_ > 0 && here_.distribution->cosineWeighted()) incident /= std::max(cosine_, 0.1f);
+    if (pixel_ > 0 && incident > 0 && !sampledDelta_) {
+      const float q = roulette::expectedContribution(average(p.beta), incident, pixel_, kWindow, kFloor);
+      if (q < 1) {
+        if (!roulette::survives(q, [&] { return sampler.get1D(); })) return false;
+        p.beta /= q;
+        rouletteBeta_ /= q;
+      }
+    } else if (p.depth >= kFallbackDepth) {
+      const float q = roulette::throughput(maxComponent(rouletteBeta_), p.etaScale);
+      if (!roulette::survives(q, [&] { return sampler.get1D(); })) return false;
+      p.beta /= q;
+      rouletteBeta_ /= q;
+    }
+    return true;
+  }
+
+  // What each recorded vertex received through its direction: the radiance gathered after it,
+  // over its throughput, recorded divided by the density it was sampled with.
+  void train(Guide& guide, const Spectrum& L, int thread) const {
+    for (int i = 0; i < recorded_; ++i) {
+      const PathVertex& v = vertices_[i];
+      float incident = 0;
+      for (int c = 0; c < 3; ++c) incident += v.beta[c] > 0 ? std::max(0.0f, L[c] - v.before[c]) / v.beta[c] : 0.0f;
+      guide.record(v.leaf, Vec3(v.wi[0], v.wi[1], v.wi[2]), incident / 3 / v.pdf, thread);
+    }
+  }
+
+ private:
+  const Guide& guide_;
+  const float bsdfFraction_;
+  const bool record_;
+  const float pixel_;
+  Spectrum rouletteBeta_{1.0f};  // β′: the throughput with BSDF sampling's weights (the fallback rule's)
+  // The vertex at hand: whether its BSDF is specular, the guide there, α, and what scatter drew.
+  bool delta_ = false, sampledDelta_ = false;
+  GuideLookup here_{nullptr, 0};
+  float alpha_ = 1.0f, guidePdf_ = 0.0f, cosine_ = 0.0f;
+  Spectrum unguided_{0.0f};  // f·|cosθ|/p_bsdf: the weight BSDF sampling alone gives the direction
+  PathVertex vertices_[kRecordedVertices];
+  int recorded_ = 0;
+};
 
 }  // namespace
 
 Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler,
                               Guide& guide, bool record, int thread, float pixel) const {
-  Spectrum L(0.0f), beta(1.0f), rouletteBeta(1.0f);
-  float etaScale = 1.0f;
-  Ray ray = cameraRay;
-  bool specularBounce = true;
-  float scatterPdf = 0.0f;  // BSDF sampling's density for the last direction (the MIS weights below use it)
-  Vec3 previousPoint = ray.o;
-  PathVertex vertices[kRecordedVertices];
-  int recorded = 0;
-  for (int depth = 0;; ++depth) {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) {  // the sky, weighted as an emission hit below
-      L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, scatterPdf);
-      break;
-    }
-    const Spectrum transmittance = scene.transmittance(hit, ray.d, lambda);
-    beta *= transmittance;
-    rouletteBeta *= transmittance;
-
-    // Emission found by sampling: MIS against the next-event estimate made at the previous
-    // vertex. Both weights treat the direction as drawn by the BSDF alone (see below).
-    if (hit.light) {
-      Spectrum Le = hit.light->L(hit.uv, -ray.d, lambda);
-      if (specularBounce) {
-        L += beta * Le;
-      } else if (!isBlack(Le)) {
-        float lightPdf = scene.lightDistribution().pmf(size_t(hit.lightIndex)) * hit.light->pdfLi(previousPoint, hit.p);
-        L += beta * Le * powerHeuristic(scatterPdf, lightPdf);
-      }
-    }
-    if (depth >= options_.maxDepth) break;
-
-    const Vec3 wo = hit.shading.toLocal(-ray.d);
-    const BSDFContext bc = bsdfContext(hit, lambda);
-    const bool delta = hit.bsdf->isSpecular();
-    // The guide at this point, on the side of the surface the path is on (the geometric normal
-    // turned towards it); where it knows nothing the BSDF samples alone (α = 1).
-    const GuideLookup here =
-        delta ? GuideLookup{nullptr, 0} : guide.at(hit.p, glm::dot(hit.ng, ray.d) < 0 ? hit.ng : -hit.ng);
-    const DirectionalQuadtree* guideHere = here.distribution;
-    if (guideHere) guideHere->prefetch();  // its top levels load while next-event estimation traces
-    const float alpha = guideHere && !guideHere->empty() ? options_.bsdfFraction : 1.0f;
-    // Next-event estimation, weighted by the power heuristic against BSDF sampling's density,
-    // not the mixture's: MIS needs only that a path's weights over the techniques that can make
-    // it sum to one, h(p_light, p_bsdf) + h(p_bsdf, p_light) = 1, whatever densities they are
-    // computed with, and the emission hit uses the same pair; its estimate f·cos·Le/p is still
-    // divided by the mixture density it was drawn with. The guide's density for the light's
-    // direction would cost a quadtree descent at every vertex to shift weight from next-event
-    // estimation, which is good at direct light, to the guide; with this pair the guide also
-    // learns less of the light that next-event estimation already finds, since the hits it
-    // records are weighted down (what it saves: docs explanation/guiding.md).
-    if (!delta) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
-
-    // One-sample MIS: the BSDF with probability α, the guide otherwise; the weight is
-    // f·|cosθ|/(α p_bsdf + (1 − α) p_guide) whichever drew the direction (Veach's balance
-    // heuristic for one sample), so the estimate is unbiased for any guide, and bounded by
-    // 1/α times BSDF sampling's where the guide is poor.
-    Vec3 wiLocal, wiWorld;
-    Spectrum weight;     // f·|cosθ|/pdf, pdf the mixture's
-    Spectrum unguided;   // f·|cosθ|/p_bsdf: the weight BSDF sampling alone would give this direction
-    float pdf;
-    float misPdf = 0.0f;    // BSDF sampling's density for the direction (MIS with the light)
-    float guidePdf = 0.0f;  // the guide's density for the direction taken (0 without a guide)
-    float eta = 1.0f;
-    bool sampledDelta = false;
-    const float uSelect = alpha < 1.0f ? sampler.get1D() : 0.0f;
-    Vec2 u = sampler.get2D();
-    if (uSelect < alpha) {
-      BSDFSample bs;
-      if (!hit.bsdf->sample(wo, bc, u, sampler.get1D(), &bs)) break;
-      if (bs.terminatesSecondary) lambda.terminateSecondary();
-      wiLocal = bs.wi;
-      wiWorld = hit.shading.toWorld(bs.wi);
-      eta = bs.eta;
-      sampledDelta = bs.delta;
-      unguided = bs.weight;
-      misPdf = bs.pdf;
-      if (bs.delta || alpha == 1.0f) {
-        // Only the BSDF can draw a delta lobe, and where α = 1 it is the only technique.
-        weight = bs.weight / alpha;
-        pdf = bs.pdf * alpha;
-      } else {
-        guidePdf = guideHere->pdf(wiWorld);
-        pdf = alpha * bs.pdf + (1 - alpha) * guidePdf;
-        weight = pdf > 0 ? hit.bsdf->eval(wo, wiLocal, bc) * (std::abs(wiLocal.z) / pdf) : Spectrum(0.0f);
-      }
-    } else {
-      wiWorld = guideHere->sample(u, &guidePdf);
-      wiLocal = hit.shading.toLocal(wiWorld);
-      const float bsdfPdf = hit.bsdf->pdf(wo, wiLocal, bc);
-      misPdf = bsdfPdf;
-      pdf = alpha * bsdfPdf + (1 - alpha) * guidePdf;
-      const Spectrum fCos = hit.bsdf->eval(wo, wiLocal, bc) * std::abs(wiLocal.z);
-      weight = pdf > 0 ? fCos / pdf : Spectrum(0.0f);
-      unguided = bsdfPdf > 0 ? fCos / bsdfPdf : weight;
-    }
-    if (isBlack(weight)) break;
-    if (leaksLight(hit, -ray.d, wiWorld, wo, wiLocal)) break;
-    beta *= weight;
-    rouletteBeta *= unguided;
-    etaScale *= eta * eta;
-    specularBounce = sampledDelta;
-    scatterPdf = misPdf;
-    previousPoint = hit.p;
-    if (record && !delta && recorded < kRecordedVertices)
-      vertices[recorded++] = {here.leaf, {wiWorld.x, wiWorld.y, wiWorld.z}, pdf, {beta.r, beta.g, beta.b}, {L.r, L.g, L.b}};
-    ray = scene.spawnRay(hit, wiWorld);
-
-    // Russian roulette by expected contribution where the guide knows it (adjoint-driven
-    // roulette, Vorba and Křivánek 2016, without splitting): the rest of the path is expected to
-    // bring β·L̂_i(x, ω), L̂_i from the guide (DirectionalQuadtree::radianceScale); it survives
-    // with q = min(1, W·β·L̂_i/Ĩ), at least 10%, Ĩ the pixel's value from the iterations before.
-    // Vorba et al.'s weight window has W = 3; the guide's L̂_i is a cell's average, so W = 5
-    // (measured below). A direction the guide finds where light comes from has a small weight
-    // f·cos/p, since its density is high: the path tracer's roulette on β would end exactly
-    // those paths and boost the few survivors by 1/q. On scenes/door.gltf, at a point of the door
-    // lit through the gap, one sample's relative variance was 44 with the path tracer's roulette,
-    // 5.4 with none; the path tracer's own was 47 (23 with none).
-    // Elsewhere (no pixel value yet, no learned guide here, a specular bounce): the path
-    // tracer's q = min(1, max β′·η²) (integrator.h) from the ninth bounce, on β′, the product of
-    // BSDF sampling's weights f·cos/p_bsdf, which the guide does not shrink (with no guide β′ = β).
-    // From the fourth, as the path tracer, it cost the same point a factor 2.5 in variance.
-    // Any q > 0 keeps the estimate unbiased.
-    // L̂_i(x, ω) from the guide (DirectionalQuadtree::radianceScale).
-    float incident = guidePdf > 0 ? guideHere->radianceScale() * guidePdf : 0.0f;
-    if (guidePdf > 0 && guideHere->cosineWeighted()) incident /= std::max(std::abs(wiLocal.z), 0.1f);
-    if (pixel > 0 && incident > 0 && !sampledDelta) {
-      const float q = roulette::expectedContribution(average(beta), incident, pixel, kWindow, kFloor);
-      if (q < 1) {
-        if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
-        beta /= q;
-        rouletteBeta /= q;
-      }
-    } else if (depth >= kFallbackDepth) {
-      const float q = roulette::throughput(maxComponent(rouletteBeta), etaScale);
-      if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
-      beta /= q;
-      rouletteBeta /= q;
-    }
-  }
-  // What each recorded vertex received through its direction: the radiance gathered after it,
-  // over its throughput. Recorded divided by the density it was sampled with.
-  for (int i = 0; i < recorded; ++i) {
-    const PathVertex& v = vertices[i];
-    float incident = 0;
-    for (int c = 0; c < 3; ++c) incident += v.beta[c] > 0 ? std::max(0.0f, L[c] - v.before[c]) / v.beta[c] : 0.0f;
-    guide.record(v.leaf, Vec3(v.wi[0], v.wi[1], v.wi[2]), incident / 3 / v.pdf, thread);
-  }
+  SurfaceHit first;
+  const bool found = scene.intersect(cameraRay, &first);
+  GuidedSampling strategy(guide, options_.bsdfFraction, record, pixel);
+  const Spectrum L = tracePath(scene, cameraRay, found ? &first : nullptr, lambda, sampler, options_.maxDepth, strategy);
+  strategy.train(guide, L, thread);
   return L;
 }
 

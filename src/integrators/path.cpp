@@ -1,7 +1,7 @@
 #include "integrators/path.h"
 
-#include "core/roulette.h"
 #include "integrators/builtins.h"
+#include "integrators/path_step.h"
 
 namespace pl {
 
@@ -33,62 +33,11 @@ void PathIntegrator::LiPacket(CameraSample* samples, int n, const Scene& scene) 
     samples[k].L = Li(rays[k], found[k] ? &hits[k] : nullptr, scene, *samples[k].lambda, *samples[k].sampler);
 }
 
+// The shared vertex step (path_step.h) with BSDF sampling and the throughput roulette.
 Spectrum PathIntegrator::Li(const Ray& cameraRay, const SurfaceHit* firstHit, const Scene& scene, SampledWavelengths& lambda,
                             Sampler& sampler) const {
-  Spectrum L(0.0f), beta(1.0f);  // beta: path throughput ∏ f·cos/pdf
-  float etaScale = 1.0f;          // ∏ η² over refractions (Russian roulette divides it out)
-  Ray ray = cameraRay;
-  bool specularBounce = true;  // the camera ray counts as "specular": emitters get full weight
-  float bsdfPdf = 0.0f;
-  Vec3 previousPoint = ray.o;
-  SurfaceHit next;
-  const SurfaceHit* found = firstHit;  // where the ray met the scene (null: it left)
-  for (int depth = 0;; ++depth) {
-    if (!found) {
-      L += beta * escapedRadiance(scene, ray.d, lambda, specularBounce, bsdfPdf);
-      break;
-    }
-    const SurfaceHit& hit = *found;
-    beta *= scene.transmittance(hit, ray.d, lambda);
-
-    // Emission found by BSDF sampling; next-event estimation already counted the same light
-    // from the previous vertex, so weight both by MIS.
-    if (hit.light) {
-      Spectrum Le = hit.light->L(hit.uv, -ray.d, lambda);
-      if (specularBounce) {
-        L += beta * Le;
-      } else if (!isBlack(Le)) {
-        float lightPdf = scene.lightDistribution().pmf(size_t(hit.lightIndex)) * hit.light->pdfLi(previousPoint, hit.p);
-        L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
-      }
-    }
-    if (depth >= maxDepth_) break;
-
-    Vec3 wo = hit.shading.toLocal(-ray.d);
-    if (!hit.bsdf->isSpecular()) L += beta * estimateDirect(scene, hit, wo, lambda, sampler, true);
-
-    BSDFSample bs;
-    Vec2 u = sampler.get2D();
-    if (!hit.bsdf->sample(wo, bsdfContext(hit, lambda), u, sampler.get1D(), &bs)) break;
-    if (bs.terminatesSecondary) lambda.terminateSecondary();
-    Vec3 wi = hit.shading.toWorld(bs.wi);
-    if (leaksLight(hit, -ray.d, wi, wo, bs.wi)) break;
-    beta *= bs.weight;
-    etaScale *= bs.eta * bs.eta;
-    specularBounce = bs.delta;
-    bsdfPdf = bs.pdf;
-    previousPoint = hit.p;
-    ray = scene.spawnRay(hit, wi);
-
-    // Russian roulette by throughput (core/roulette.h).
-    if (depth >= roulette::kFirstDepth) {
-      const float q = roulette::throughput(maxComponent(beta), etaScale);
-      if (!roulette::survives(q, [&] { return sampler.get1D(); })) break;
-      beta /= q;
-    }
-    found = scene.intersect(ray, &next) ? &next : nullptr;
-  }
-  return L;
+  BSDFSampling strategy;
+  return tracePath(scene, cameraRay, firstHit, lambda, sampler, maxDepth_, strategy);
 }
 
 IntegratorEntry pathEntry() {
