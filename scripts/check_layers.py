@@ -24,6 +24,7 @@ LAYERS = [
     "bsdfs",        # the BSDF interface and one file per BSDF
     "lights",       # the light interface and one file per light
     "scene",        # geometry (Embree), materials, camera, the glTF loader
+    "transport",    # the light subpath's walk, shared by light tracing, bidirectional and photons
     "photon",       # photon records, photon maps, the photon tracer
     "guiding",      # path guiding's distributions
     "radiosity",    # patches, form factors, the radiosity solver

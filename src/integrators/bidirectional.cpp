@@ -28,12 +28,12 @@
 // light tracer does. Russian roulette (on the throughput, as the path tracer and light tracer)
 // is left out of the weights: they are still a partition of unity for every path, which is all
 // unbiasedness needs.
-#include "core/roulette.h"
 #include "integrators/bidirectional.h"
 
 #include <atomic>
 #include <cmath>
 
+#include "core/roulette.h"
 #include "core/sampler.h"
 #include "core/parallel.h"
 #include "integrators/builtins.h"
@@ -41,6 +41,7 @@
 #include "render/visible_probe.h"
 #include "render/camera_path.h"
 #include "render/session.h"
+#include "transport/light_walk.h"
 
 namespace pl {
 
@@ -144,12 +145,11 @@ class VertexConnectionMerging::Tracer {
   // ----- light subpaths ----------------------------------------------------------------------
 
   void traceLightPath(Sampler& sampler, SampledWavelengths lambda, std::vector<LightVertex>* vertices, SplatSink& splat) const {
-    const AliasTable& lights = scene_.lightDistribution();
-    if (lights.size() == 0 || lights.total() <= 0) return;
-    float pick;
-    const Light& light = *scene_.lights()[lights.sample(sampler.get1D(), &pick)];
-    const Vec2 uPosition = sampler.get2D(), uDirection = sampler.get2D();
-    EmittedRay e = light.sampleLe(uPosition, uDirection, lambda);
+    const LightEmission emitted = emitLight(scene_, sampler, lambda);
+    if (!emitted.light) return;
+    const Light& light = *emitted.light;
+    const EmittedRay& e = emitted.e;
+    const float pick = emitted.pick;
     if (!(e.pdfPos * e.pdfDir > 0) || isBlack(e.flux) || !isFinite(e.flux)) return;
     // y₀: chosen by next-event estimation with area density directPdfA (a directional light's
     // direction is a delta: 1), emitted towards y₁ with emissionPdfW (tech. rep. eqs. 31–33, 48–50).
@@ -163,7 +163,6 @@ class VertexConnectionMerging::Tracer {
     SubPath path;
     path.lambda = lambda;
     path.ray = e.ray;
-    path.ray.tmin = scene_.epsilon();  // area lights emit from their own triangle
     path.beta = e.flux / pick;
     path.finiteLight = !light.isDeltaDirection() && !infinite;
     path.dVCM = Mis(directPdfA / emissionPdfW);
@@ -173,41 +172,51 @@ class VertexConnectionMerging::Tracer {
     // The sky's emission point lies on the bounding disc, not on the sky: the camera cannot see it.
     if (o_.connect && !light.isDelta() && !infinite) emissionToCamera(light, e, pick, directPdfA, path.lambda, splat);
 
-    for (path.length = 1; path.length <= o_.maxDepth; ++path.length) {
-      SurfaceHit hit;
-      if (!scene_.intersect(path.ray, &hit)) return;
-      {  // Beer–Lambert through an absorbing volume the edge crossed; roulette sees it too
-        const Spectrum transmittance = scene_.transmittance(hit, path.ray.d, path.lambda);
+    if (o_.maxDepth < 1) return;
+
+    // The walk (transport/light_walk.h): each diffuse or glossy vertex kept and connected to the
+    // camera, the partial weights carried along.
+    struct Walker {
+      const Tracer& tracer;
+      SubPath& path;
+      std::vector<LightVertex>* vertices;
+      SplatSink& splat;
+      void attenuate(const Spectrum& transmittance) {  // roulette sees it too
         path.beta *= transmittance;
         path.throughput *= transmittance;
       }
-      const Vec3 wo = -path.ray.d;
-      // Complete the partial weights with this edge (eqs. 31–33): the distance and the cosine
-      // at y turn the previous vertex's solid-angle densities into area densities at y. A
-      // directional light's first edge has no distance: its y₁ density is pdfPos·cos.
-      const float cosIn = std::abs(glm::dot(wo, hit.ng));
-      if (path.length > 1 || path.finiteLight) path.dVCM *= Mis(hit.t * hit.t);
-      path.dVCM /= Mis(cosIn);
-      path.dVC /= Mis(cosIn);
-      path.dVM /= Mis(cosIn);
-
-      if (!hit.bsdf->isSpecular()) {
-        LightVertex v{hit, wo, path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly,
-                      hit.shading.toLocal(wo), hit.shading.toLocal(hit.ng)};
-        if (o_.merge || o_.connect) vertices->push_back(v);
-        if (o_.connect) connectToCamera(v, path.lambda, splat);  // t = 1
+      bool vertex(const SurfaceHit& hit, const Vec3& wo, int length) {
+        path.length = length;
+        // Complete the partial weights with this edge (eqs. 31–33): the distance and the cosine
+        // at y turn the previous vertex's solid-angle densities into area densities at y. A
+        // directional light's first edge has no distance: its y₁ density is pdfPos·cos.
+        const float cosIn = std::abs(glm::dot(wo, hit.ng));
+        if (path.length > 1 || path.finiteLight) path.dVCM *= tracer.Mis(hit.t * hit.t);
+        path.dVCM /= tracer.Mis(cosIn);
+        path.dVC /= tracer.Mis(cosIn);
+        path.dVM /= tracer.Mis(cosIn);
+        if (!hit.bsdf->isSpecular()) {
+          LightVertex v{hit, wo, path.beta, path.length, path.dVCM, path.dVC, path.dVM, path.lambda.heroOnly,
+                        hit.shading.toLocal(wo), hit.shading.toLocal(hit.ng)};
+          if (tracer.o_.merge || tracer.o_.connect) vertices->push_back(v);
+          if (tracer.o_.connect) tracer.connectToCamera(v, path.lambda, splat);  // t = 1
+        }
+        return path.length + 1 <= tracer.o_.maxDepth;
       }
-      if (path.length + 1 > o_.maxDepth) return;
-      if (!scatter(hit, wo, TransportMode::Importance, sampler, path, o_.mergesAt(path.length))) return;
-      // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf, as the light tracer.
-      if (path.length >= roulette::kFirstDepth) {
-        const float q = roulette::throughput(maxComponent(path.throughput));
-        if (!roulette::survives(q, [&] { return sampler.get1D(); })) return;
-        path.beta /= q;
-        path.throughput /= q;
+      bool scattered(const SurfaceHit& hit, const LightScatter& s, int length, Sampler& sampler) {
+        if (!tracer.advance(hit, s.woLocal, s.bc, s.bs, s.wi, path, tracer.o_.mergesAt(length)) || isBlack(path.beta))
+          return false;
+        // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf, as the light tracer.
+        if (length >= roulette::kFirstDepth) {
+          const float q = roulette::throughput(maxComponent(path.throughput));
+          if (!roulette::survives(q, [&] { return sampler.get1D(); })) return false;
+          path.beta /= q;
+          path.throughput /= q;
+        }
+        return isFinite(path.beta);
       }
-      if (!isFinite(path.beta)) return;
-    }
+    } walker{*this, path, vertices, splat};
+    walkLightPath(scene_, path.ray, sampler, path.lambda, ShadingCheck::kEveryVertex, walker);
   }
 
   // (s, t) = (1, 1): the emission point y₀ seen by the camera, against the camera ray finding it
@@ -302,7 +311,7 @@ class VertexConnectionMerging::Tracer {
         }
         if (o_.merge && grid) merge(hit, woLocal, path, *grid, sink);
       }
-      if (!scatter(hit, wo, TransportMode::Radiance, sampler, path, true)) return;
+      if (!scatter(hit, wo, sampler, path, true)) return;
       // Russian roulette by throughput (core/roulette.h), as the path tracer (the camera's
       // vertex counts in the length: length 4 is the path tracer's depth 3).
       if (path.length >= roulette::kFirstDepth + 1) {
@@ -473,21 +482,32 @@ class VertexConnectionMerging::Tracer {
 
   // ----- shared --------------------------------------------------------------------------------
 
-  // Samples the next direction and updates the partial weights for it (eqs. 34–36): the new
+  // Samples a camera subpath's next direction (the light subpath's walk samples its own:
+  // transport/light_walk.h) and updates the partial weights for it (advance, eqs. 34–36): the new
   // vertex's dVCM is 1/pdf_dir (its area form is completed at the next hit); dVC and dVM gather
   // the reverse density of the edge just walked. A delta lobe has equal forward and reverse
   // densities and no connection or merge at its vertex: dVCM = 0, and the others only change
   // measure.
   // mergeHere: merging at this vertex is a technique (BidirectionalOptions::mergesAt).
-  bool scatter(const SurfaceHit& hit, const Vec3& wo, TransportMode mode, Sampler& sampler, SubPath& path, bool mergeHere) const {
+  bool scatter(const SurfaceHit& hit, const Vec3& wo, Sampler& sampler, SubPath& path, bool mergeHere) const {
     BSDFSample bs;
     const Vec3 woLocal = hit.shading.toLocal(wo);
-    const BSDFContext bc = bsdfContext(hit, path.lambda, mode);
+    const BSDFContext bc = bsdfContext(hit, path.lambda);
     const Vec2 u = sampler.get2D();
     if (!hit.bsdf->sample(woLocal, bc, u, sampler.get1D(), &bs)) return false;
     if (bs.terminatesSecondary) path.lambda.terminateSecondary();
     const Vec3 wi = hit.shading.toWorld(bs.wi);
     if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return false;
+    if (!advance(hit, woLocal, bc, bs, wi, path, mergeHere)) return false;
+    path.ray = scene_.spawnRay(hit, wi);
+    return !isBlack(path.beta);
+  }
+
+  // The partial weights and the throughput after a scattering at `hit` towards wi, sampled as
+  // `bs` (its weight with the shading-normal correction where the subpath needs it). False: a
+  // direction no technique could have sampled.
+  bool advance(const SurfaceHit& hit, const Vec3& woLocal, const BSDFContext& bc, const BSDFSample& bs, const Vec3& wi,
+               SubPath& path, bool mergeHere) const {
     const float cosOut = std::abs(glm::dot(wi, hit.ng));
     if (bs.delta) {
       path.dVCM = 0.0f;
@@ -505,13 +525,11 @@ class VertexConnectionMerging::Tracer {
       path.dVM = Mis(cosOut / bs.pdf) * (path.dVM * Mis(revPdf) + path.dVCM * it_.misVc + (mergeHere ? 1.0f : 0.0f));
       path.dVCM = Mis(1.0f / bs.pdf);
     }
-    Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), mode);
-    path.beta *= weight;
-    path.throughput *= weight;
+    path.beta *= bs.weight;
+    path.throughput *= bs.weight;
     path.etaScale *= bs.eta * bs.eta;
     path.specular = path.specular && bs.delta;
-    path.ray = scene_.spawnRay(hit, wi);
-    return !isBlack(path.beta);
+    return true;
   }
 
  private:

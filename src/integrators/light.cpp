@@ -2,6 +2,7 @@
 
 #include "core/roulette.h"
 #include "integrators/builtins.h"
+#include "transport/light_walk.h"
 
 namespace pl {
 
@@ -22,13 +23,12 @@ void LightTracer::connectToCamera(const Scene& scene, const SurfaceHit& hit, con
 }
 
 void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) const {
-  Rng& rng = path.rng;
-  const AliasTable& lights = scene.lightDistribution();
-  if (lights.size() == 0 || lights.total() <= 0) return;
-  float pmf;
-  const Light& light = *scene.lights()[lights.sample(rng.uniform(), &pmf)];
-  Vec2 uPosition(rng.uniform(), rng.uniform()), uDirection(rng.uniform(), rng.uniform());
-  EmittedRay e = light.sampleLe(uPosition, uDirection, path.lambda);
+  StreamDraws draws{path.rng};
+  const LightEmission emitted = emitLight(scene, draws, path.lambda);
+  if (!emitted.light) return;
+  const Light& light = *emitted.light;
+  const EmittedRay& e = emitted.e;
+  const float pmf = emitted.pick;
   Spectrum beta = e.flux / pmf;  // Le |cosθ| / (pmf pdfPos pdfDir): an estimate of the total power
   if (isBlack(beta) || !isFinite(beta)) return;
 
@@ -47,40 +47,36 @@ void LightTracer::traceLightPath(const Scene& scene, LightPathContext& path) con
     }
   }
 
-  Ray ray = e.ray;
-  ray.tmin = scene.epsilon();  // area lights emit from their own triangle
-  Spectrum throughput(1.0f);   // ∏ f cos / pdf, for Russian roulette (beta carries watts)
-  for (int depth = 1; depth <= maxDepth_; ++depth) {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) return;
-    const Spectrum transmittance = scene.transmittance(hit, ray.d, path.lambda);
-    beta *= transmittance;
-    throughput *= transmittance;
-    const Vec3 wo = -ray.d;
-    if (!hit.bsdf->isSpecular()) connectToCamera(scene, hit, wo, beta, path);
-    if (depth == maxDepth_) return;
-
-    BSDFSample bs;
-    Vec3 woLocal = hit.shading.toLocal(wo);
-    Vec2 u(rng.uniform(), rng.uniform());
-    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, path.lambda, TransportMode::Importance), u, rng.uniform(), &bs))
-      return;
-    if (bs.terminatesSecondary) path.lambda.terminateSecondary();
-    Vec3 wi = hit.shading.toWorld(bs.wi);
-    if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return;
-    Spectrum weight = bs.weight * shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
-    beta *= weight;
-    throughput *= weight;
-    // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf (beta carries watts).
-    if (depth >= roulette::kFirstDepth) {
-      const float q = roulette::throughput(maxComponent(throughput));
-      if (!roulette::survives(q, [&] { return rng.uniform(); })) return;
-      beta /= q;
-      throughput /= q;
+  // The walk (transport/light_walk.h): every non-specular vertex connected to the camera.
+  struct Walker {
+    const LightTracer& tracer;
+    const Scene& scene;
+    LightPathContext& path;
+    Spectrum beta;
+    Spectrum throughput{1.0f};  // ∏ f cos / pdf, for Russian roulette (beta carries watts)
+    void attenuate(const Spectrum& transmittance) {
+      beta *= transmittance;
+      throughput *= transmittance;
     }
-    if (!isFinite(beta)) return;
-    ray = scene.spawnRay(hit, wi);
-  }
+    bool vertex(const SurfaceHit& hit, const Vec3& wo, int length) {
+      if (!hit.bsdf->isSpecular()) tracer.connectToCamera(scene, hit, wo, beta, path);
+      return length < tracer.maxDepth_;
+    }
+    bool scattered(const SurfaceHit&, const LightScatter& s, int length, StreamDraws& draws) {
+      beta *= s.bs.weight;
+      throughput *= s.bs.weight;
+      // Russian roulette by throughput (core/roulette.h), on ∏ f cos / pdf.
+      if (length >= roulette::kFirstDepth) {
+        const float q = roulette::throughput(maxComponent(throughput));
+        if (!roulette::survives(q, [&] { return draws.get1D(); })) return false;
+        beta /= q;
+        throughput /= q;
+      }
+      return isFinite(beta);
+    }
+  } walker{*this, scene, path, beta};
+  if (maxDepth_ < 1) return;
+  walkLightPath(scene, e.ray, draws, path.lambda, ShadingCheck::kEveryVertex, walker);
 }
 
 namespace {

@@ -3,11 +3,11 @@
 #include <atomic>
 #include <chrono>
 
-#include "core/roulette.h"
-#include "bsdfs/lambertian.h"
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "core/roulette.h"
 #include "spectral/spectral.h"
+#include "transport/light_walk.h"
 
 namespace pl {
 
@@ -15,63 +15,52 @@ namespace {
 
 constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
 
-// Traces one photon path, appending what it stores. In caustic mode the path ends at the first
-// non-specular hit and is stored only if it went through at least one specular bounce.
+// Traces one photon path (transport/light_walk.h), appending what it stores. In caustic mode the
+// path ends at the first non-specular hit and is stored only if it went through at least one
+// specular bounce.
 [[gnu::flatten]] void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
                std::vector<Photon>* out) {
   Rng rng(0);
   SampledWavelengths lambda;
   EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda);
-  // What a stored photon carries: in spectral mode the XYZ of its wavelengths' values (the map
-  // converts to linear sRGB when it reads them), so that gathers are the same in both modes.
-  auto stored = [&](const Spectrum& flux) { return o.spectral ? spectralToXYZ(flux, lambda.lambda) : flux; };
-  Spectrum flux = e.flux;
-  if (isBlack(flux) || !isFinite(flux)) return;
-  Ray ray = e.ray;
-  ray.tmin = scene.epsilon();  // area-light photons start on the emitting triangle
-  bool onlySpecular = true;
-  for (int depth = 0; depth <= o.maxDepth; ++depth) {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, &hit)) return;
-    flux *= scene.transmittance(hit, ray.d, lambda);
-    Vec3 wo = -ray.d;
-    if (!hit.bsdf->isSpecular()) {
-      // kDirect at the first hit, kCaustic after specular bounces only, kIndirect otherwise;
-      // in integer arithmetic, since depth == 0 is unpredictable.
-      bool first = depth == 0;
-      auto type = Photon::Type(first * Photon::kDirect + (!first & onlySpecular) * Photon::kCaustic);
-      if (causticMode) {
-        if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(flux), type, rng.uniform()));
-        return;
+  if (isBlack(e.flux) || !isFinite(e.flux)) return;
+  struct Walker {
+    const PhotonTracingOptions& o;
+    const SampledWavelengths& lambda;
+    Rng& rng;
+    bool causticMode;
+    std::vector<Photon>* out;
+    Spectrum flux;
+    bool onlySpecular = true;
+    // What a stored photon carries: in spectral mode the XYZ of its wavelengths' values (the map
+    // converts to linear sRGB when it reads them), so that gathers are the same in both modes.
+    Spectrum stored() const { return o.spectral ? spectralToXYZ(flux, lambda.lambda) : flux; }
+    void attenuate(const Spectrum& transmittance) { flux *= transmittance; }
+    bool vertex(const SurfaceHit& hit, const Vec3& wo, int length) {
+      if (!hit.bsdf->isSpecular()) {
+        // kDirect at the first hit, kCaustic after specular bounces only, kIndirect otherwise;
+        // in integer arithmetic, since length == 1 is unpredictable.
+        bool first = length == 1;
+        auto type = Photon::Type(first * Photon::kDirect + (!first & onlySpecular) * Photon::kCaustic);
+        if (causticMode) {
+          if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(), type, rng.uniform()));
+          return false;
+        }
+        out->push_back(Photon(hit.p, wo, stored(), type, rng.uniform()));
+        onlySpecular = false;
       }
-      out->push_back(Photon(hit.p, wo, stored(flux), type, rng.uniform()));
-      onlySpecular = false;
+      return length <= o.maxDepth;  // maxDepth bounces: photons at up to maxDepth + 1 hits
     }
-    BSDFSample bs;
-    Vec3 woLocal = hit.shading.toLocal(wo);
-    Vec2 u(rng.uniform(), rng.uniform());
-    float uc = rng.uniform();
-    // Diffuse hits, most of them, call Lambertian (final) directly, inlined here, without the
-    // virtual call (docs explanation/performance.md, Photon maps).
-    const BSDFContext bc = bsdfContext(hit, lambda, TransportMode::Importance);
-    bool sampled = hit.bsdf->bsdfClass() == BSDFClass::kLambertian ? static_cast<const Lambertian*>(hit.bsdf)->sample(woLocal, bc, u, uc, &bs)
-                                            : hit.bsdf->sample(woLocal, bc, u, uc, &bs);
-    if (!sampled) return;
-    if (bs.terminatesSecondary) lambda.terminateSecondary();
-    Vec3 wi = hit.shading.toWorld(bs.wi);
-    if (hit.shadingDiffers()) {
-      // A direction the shading normal allows but the geometry does not would leak through the
-      // surface; and a flux scattered with a shading normal needs Veach's adjoint correction.
-      if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return;
-      bs.weight *= shadingNormalCorrection(woLocal, bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+    bool scattered(const SurfaceHit&, const LightScatter& s, int, StreamDraws& draws) {
+      // Russian roulette by albedo (core/roulette.h), at every bounce.
+      const float q = roulette::albedo(maxComponent(s.bs.weight));
+      if (!roulette::survives(q, [&] { return draws.get1D(); })) return false;
+      flux *= s.bs.weight * (1.0f / q);
+      return isFinite(flux);  // a non-finite BSDF weight ends the path: it never reaches a map
     }
-    // Russian roulette by albedo (core/roulette.h), at every bounce.
-    const float q = roulette::albedo(maxComponent(bs.weight));
-    if (!roulette::survives(q, [&] { return rng.uniform(); })) return;
-    flux *= bs.weight * (1.0f / q);
-    if (!isFinite(flux)) return;  // a non-finite BSDF weight ends the path: it never reaches a map
-    ray = scene.spawnRay(hit, wi);
-  }
+  } walker{o, lambda, rng, causticMode, out, e.flux};
+  StreamDraws draws{rng};
+  walkLightPath(scene, e.ray, draws, lambda, ShadingCheck::kWhereNormalsDiffer, walker);
 }
 
 double since(std::chrono::steady_clock::time_point t0) {
@@ -136,14 +125,11 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
   SampledWavelengths own;
   if (!lambda) lambda = &own;
   *lambda = spectral ? SampledWavelengths::sample(rng->uniform()) : SampledWavelengths();
-  const AliasTable& lights = scene.lightDistribution();
-  if (lights.size() == 0 || lights.total() <= 0) return EmittedRay{Ray{}, Spectrum(0.0f)};
-  float pmf;
-  size_t l = lights.sample(rng->uniform(), &pmf);
-  Vec2 u1(rng->uniform(), rng->uniform()), u2(rng->uniform(), rng->uniform());
-  EmittedRay e = scene.lights()[l]->sampleLe(u1, u2, *lambda);
-  e.flux *= 1.0f / (pmf * float(count));  // one division, not three
-  return e;
+  StreamDraws draws{*rng};
+  LightEmission emitted = emitLight(scene, draws, *lambda);
+  if (!emitted.light) return emitted.e;
+  emitted.e.flux *= 1.0f / (emitted.pick * float(count));  // one division, not three
+  return emitted.e;
 }
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& o) {
