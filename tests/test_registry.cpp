@@ -187,8 +187,19 @@ TEST_CASE("registry: a name is registered once, and a declaration is checked whe
   ParamSpec budget = params::passes();
   CHECK_THROWS_WITH(IntegratorRegistration(copy("two-budgets", {params::spp(), budget})),
                     "integrator two-budgets: more than one budget parameter");
+  IntegratorEntry refined = copy("refined", {params::spp(), params::sampler(8, "x", "y")});
+  refined.refinement = {"photons"};
+  CHECK_THROWS_WITH(IntegratorRegistration(refined),
+                    "integrator refined: refinement parameter 'photons' is not a declared integer parameter");
+  refined.refinement = {"sampler"};  // declared, but a choice: it cannot be doubled
+  CHECK_THROWS_WITH(IntegratorRegistration(refined),
+                    "integrator refined: refinement parameter 'sampler' is not a declared integer parameter");
+  IntegratorEntry unrefinable = copy("unrefinable", {params::maxDepth()});
+  CHECK_THROWS_WITH(IntegratorRegistration(unrefinable),
+                    "integrator unrefinable: it estimates radiance but has neither a budget nor a refinement parameter");
   CHECK(findIntegrator("twice") == nullptr);
   CHECK(findIntegrator("two-budgets") == nullptr);
+  CHECK(findIntegrator("refined") == nullptr);
 }
 
 TEST_CASE("registry: reading or setting a parameter the integrator does not declare throws") {

@@ -14,11 +14,13 @@ Spectrum DirectIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelen
 }
 
 IntegratorEntry directEntry() {
-  return IntegratorEntry(
+  IntegratorEntry e(
       "direct", "emission seen directly plus one shadow-ray light sample at the first hit (local illumination)",
       IntegratorFamily::Pixel, "spp",
       {params::spp(), params::sampler(DirectIntegrator::kSobolSlots, "camera path", "the pixel's samples")},
       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<DirectIntegrator>(p.choice("sampler") == "sobol"); });
+  e.converges = Converges::kDirectLighting;
+  return e;
 }
 
 }  // namespace pl

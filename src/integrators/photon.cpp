@@ -193,12 +193,15 @@ std::string resolvePhotonDensity(const Scene& scene, int, int, ParamSet& p) {
 }  // namespace
 
 IntegratorEntry photonEntry() {
-  return IntegratorEntry(
+  IntegratorEntry e(
       "photon", "Jensen's two-pass photon mapping: global and caustic maps, final gathering",
       IntegratorFamily::Pixel, "spp",
       photonParams(),
       [](const ParamSet& p, const RenderOptions& image) { return std::make_unique<PhotonIntegrator>(photonOptions(p, image)); },
       resolvePhotonDensity);
+  // The maps' noise and their gathers' radius fall with the photon counts, not the samples.
+  e.refinement = {"spp", "photons", "caustic_photons"};
+  return e;
 }
 
 }  // namespace pl

@@ -177,7 +177,7 @@ std::string resolvePatchSize(const Scene& scene, int, int, ParamSet& params) {
 }  // namespace
 
 IntegratorEntry radiosityEntry() {
-  return IntegratorEntry(
+  IntegratorEntry e(
       "radiosity", "classic radiosity (Goral et al. 1984): diffuse patches, form factors by ray casting, Gauss-Seidel",
       IntegratorFamily::Pixel, "spp",
       {params::spp(), patchSize(), patchBudget(), tolerance(), display(), patchesAov()},
@@ -195,6 +195,9 @@ IntegratorEntry radiosityEntry() {
         return std::make_unique<RadiosityIntegrator>(o);
       },
       resolvePatchSize);
+  e.carries = kEveryLightType & ~lightTypeBit(LightType::kInfinite);  // the sky is refused (radiosity.cpp)
+  e.refinement = {"patches"};  // its error is the mesh's; the samples only average the display
+  return e;
 }
 
 

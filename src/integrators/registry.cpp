@@ -28,6 +28,13 @@ void add(std::map<std::string, IntegratorEntry>& entries, IntegratorEntry entry)
     }
   }
   if (budgets > 1) throw Error("integrator " + entry.name + ": more than one budget parameter");
+  for (const std::string& r : entry.refinement) {
+    auto p = std::find_if(entry.params.begin(), entry.params.end(), [&](const ParamSpec& s) { return s.name == r; });
+    if (p == entry.params.end() || p->type != ParamType::Integer)
+      throw Error("integrator " + entry.name + ": refinement parameter '" + r + "' is not a declared integer parameter");
+  }
+  if (entry.converges != Converges::kOther && entry.refinement.empty() && !entry.budgetParam())
+    throw Error("integrator " + entry.name + ": it estimates radiance but has neither a budget nor a refinement parameter");
   if (!entry.sliceUnit.empty() && entry.sliceUnit != "spp" && entry.sliceUnit != "passes")
     throw Error("integrator " + entry.name + ": slice unit '" + entry.sliceUnit + "' is neither spp nor passes");
   std::string name = entry.name;
@@ -59,6 +66,15 @@ const char* familyName(IntegratorFamily family) {
     case IntegratorFamily::Pass: return "pass";
     case IntegratorFamily::LightPaths: return "light paths";
     case IntegratorFamily::Own: return "own loop";
+  }
+  return "?";
+}
+
+const char* convergesName(Converges converges) {
+  switch (converges) {
+    case Converges::kRadiance: return "radiance (every path up to the maximum depth)";
+    case Converges::kDirectLighting: return "direct lighting (emission and one bounce of light at diffuse surfaces)";
+    case Converges::kOther: return "no radiance (a quantity of its own)";
   }
   return "?";
 }
@@ -138,6 +154,19 @@ std::string integratorMarkdown(const IntegratorEntry& entry) {
       << (e->sliceUnit.empty() ? "cannot be sliced"
                                : std::string("sliced by ") + (e->sliceUnit == "spp" ? "`--sample-range`" : "`--pass-range`"))
       << ".\n\n";
+    s << "Converges to " << convergesName(e->converges);
+    if (e->converges != Converges::kOther) {
+      static const char* const kinds[] = {"point and spot lights", "directional lights", "area lights", "the environment"};
+      std::vector<std::string> carried, missing;
+      for (int t = 0; t < 4; ++t) ((e->carries & lightTypeBit(LightType(t))) ? carried : missing).push_back(kinds[t]);
+      auto join = [](const std::vector<std::string>& v) {
+        std::string out;
+        for (const std::string& x : v) out += (out.empty() ? "" : ", ") + x;
+        return out;
+      };
+      s << "; carries " << join(carried) << (missing.empty() ? "" : " (not " + join(missing) + ")");
+    }
+    s << ".\n\n";
     s << "| parameter | type | default | valid | meaning |\n|---|---|---|---|---|\n";
     for (const ParamSpec& p : e->params) {
       const char* type = p.type == ParamType::Integer ? "integer" : p.type == ParamType::Real ? "real" : "choice";

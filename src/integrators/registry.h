@@ -28,6 +28,21 @@ namespace pl {
 enum class IntegratorFamily { Pixel, Pass, LightPaths, Own };
 const char* familyName(IntegratorFamily family);
 
+// What an integrator's image converges to; the contract's closed-form tests (tests/
+// test_contract.cpp) hold every registered integrator to it.
+enum class Converges {
+  kRadiance,        // the rendering equation's solution: every path up to max_depth
+  kDirectLighting,  // emission plus one bounce of light at diffuse surfaces (specular chains aside)
+  kOther,           // not radiance (a test's ambient occlusion): no light-transport closed form applies
+};
+const char* convergesName(Converges converges);
+
+// A set of LightTypes (lights/light.h), one bit each.
+using LightTypes = uint32_t;
+constexpr LightTypes lightTypeBit(LightType t) { return LightTypes(1) << unsigned(t); }
+constexpr LightTypes kEveryLightType = lightTypeBit(LightType::kDeltaPosition) | lightTypeBit(LightType::kDeltaDirection) |
+                                       lightTypeBit(LightType::kArea) | lightTypeBit(LightType::kInfinite);
+
 struct IntegratorEntry {
   using Factory = std::function<std::unique_ptr<Integrator>(const ParamSet&, const RenderOptions&)>;
   using Resolve = std::function<std::string(const Scene&, int width, int height, ParamSet&)>;
@@ -51,6 +66,15 @@ struct IntegratorEntry {
   // metadata and the resolved config say what was used) and says what it chose, in words, for
   // the summary line ("" when there is nothing to say).
   Resolve resolve;
+
+  // What its image converges to, and the kinds of light it carries (a scene with another kind
+  // is refused or its light is missing); set after construction where they differ.
+  Converges converges = Converges::kRadiance;
+  LightTypes carries = kEveryLightType;
+  // The integer parameters that, doubled together, lower its error (empty: its budget
+  // parameter): e.g. the photon count beside the samples of a fixed photon map, the patch count
+  // of radiosity. The closed-form tests raise them until the estimate can be judged.
+  std::vector<std::string> refinement;
 
   // The parameter that is the render's budget unit ("spp" or "passes"), or nullptr.
   const ParamSpec* budgetParam() const;

@@ -33,11 +33,13 @@ Spectrum WhittedIntegrator::trace(const Ray& ray, const Scene& scene, SampledWav
 }
 
 IntegratorEntry whittedEntry() {
-  return IntegratorEntry(
+  IntegratorEntry e(
       "whitted", "Whitted ray tracing: shadow rays at diffuse surfaces, recursion along every specular lobe",
       IntegratorFamily::Pixel, "spp",
       {params::spp(), params::maxDepth()},
       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<WhittedIntegrator>(int(p.integer("max_depth"))); });
+  e.converges = Converges::kDirectLighting;  // at diffuse surfaces; specular chains are followed
+  return e;
 }
 
 }  // namespace pl
