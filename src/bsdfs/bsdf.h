@@ -128,12 +128,12 @@ inline float shadingNormalCorrection(const Vec3& wo, const Vec3& wi, const Vec3&
 // measure flux per unit of geometric area, ∫ Li |wi·ng| dω, while the reflection equation
 // integrates Li |wi·ns| dω; each photon's f is therefore weighted by |wi·ns| / |wi·ng| (wi in the
 // shading frame, ns = z; ngLocal the geometric normal there). Without it a photon map is too
-// bright or too dark wherever normals are interpolated or mapped (41% on a 45° normal map).
+// bright or too dark wherever normals are interpolated or mapped (tests/test_light_transport.cpp).
 // The weight's mean is finite but its variance is not (photons arrive with density ∝ |wi·ng|, so
-// E[weight²] ∝ ∫ |wi·ns|²/|wi·ng| dω diverges at grazing incidence): unclamped, a tessellated
-// sphere's furnace had pixels 115% off. It is clamped at 10, which changes only photons with
+// E[weight²] ∝ ∫ |wi·ns|²/|wi·ng| dω diverges at grazing incidence), and a tessellated sphere's
+// furnace showed it pixel by pixel. It is clamped at 10, which changes only photons with
 // |wi·ng| < |wi·ns|/10: for interpolated normals δ off the face normal a solid angle of O(δ/10)
-// around the horizon, a bias of O(δ²/10) of the level; the furnace is back to its 1–2% noise.
+// around the horizon, a bias of O(δ²/10) of the level.
 constexpr float kMaxDensityShadingCorrection = 10.0f;
 inline float densityShadingCorrection(const Vec3& wiLocal, const Vec3& ngLocal) {
   float d = std::abs(glm::dot(wiLocal, ngLocal));

@@ -404,8 +404,8 @@ int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Keep freed memory in the heap for the next allocation instead of handing it back to the
   // kernel: every photon-tracing pass writes tens of MB of photon buffers, and fresh pages
-  // fault in (zeroed by the kernel) on first touch, which cost 2–3% of photon tracing on two
-  // threads (docs: Performance). Blocks above 32 MB (large maps, films) are still mmapped.
+  // fault in (zeroed by the kernel) on first touch (docs: Performance). Blocks above 32 MB
+  // (large maps, films) are still mmapped.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif

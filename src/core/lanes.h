@@ -10,8 +10,8 @@
 // instruction set of the function it is written in, before inlining, and a target_clones
 // function or a helper without a target is written for baseline x86-64, where a 64-byte vector
 // is not a register. Every comparison whose mask was combined (&, |) or selected integers was
-// then compiled lane by lane (vcomiss, seta, vpinsrd: 288 scalar compares in the path tracer's
-// kernel), which cost the path tracer 13–17% of its time (docs/pages/explanation/performance.md). Under
+// then compiled lane by lane (vcomiss, seta, vpinsrd), at a cost the path tracer's profile
+// showed (docs/pages/explanation/performance.md). Under
 // `#pragma GCC target("arch=x86-64-v4")` they are one vcmpps each. (Without 64-byte registers,
 // in the baseline copy or an AVX2 one, a 16-lane comparison is still split lane by lane.)
 #ifndef PL_LANES_ISA

@@ -29,9 +29,9 @@ inline uint64_t mulSaturate(uint64_t a, uint64_t b) {
 
 // Uninitialised storage for n trivially copyable T, for the photon map's multi-gigabyte
 // scratch arrays: their pages are first touched by the loops that fill them, which poll the
-// render's budget, instead of being value-initialised up front (a std::vector of the 37M keyed
-// photons of a 20M-path map took 5 s to construct, with no way to stop it). Transparent huge
-// pages were tried for them and were 4× slower to fault in on this machine (defrag on fault).
+// render's budget, instead of being value-initialised up front, which a budget could not stop
+// (docs: Performance, Photon maps). Transparent huge pages were slower to fault in (defrag on
+// fault).
 template <typename T>
 class LargeArray {
   static_assert(std::is_trivially_copyable_v<T>);

@@ -73,8 +73,8 @@ inline Vec2 sobol2D(uint32_t index, uint64_t seed) {
 
 // The points `index` of `count` sequences at once, sequence k seeded slotSeed(key, k): what a
 // Sampler's slots hold (core/sampler.h), each as sobol2D gives it. One loop over the slots,
-// vectorised (qmc.cpp), instead of a call per draw: a point is ~125 instructions of hashing,
-// 6% of a bdpt iteration when they came one at a time.
+// vectorised (qmc.cpp), instead of a call per draw: a point is over a hundred instructions of
+// hashing, which one at a time showed in a bdpt iteration's profile (docs: Performance).
 constexpr int kMaxSlots = 8;
 inline uint64_t slotSeed(uint64_t key, int slot) { return key ^ (uint64_t(slot) * 0x9e3779b97f4a7c15ULL); }
 void sobol2DSlots(uint32_t index, uint64_t key, int count, Vec2* points);

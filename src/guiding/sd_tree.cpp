@@ -9,9 +9,8 @@
 //      next recording tree is that distribution's shape refined: cells with more than ρ = 1% of
 //      the energy split, the rest collapse (§5.2).
 // Unlike the paper, a leaf holds one directional tree per side a surface can face (guide.h,
-// sideOf): at a door 4 cm thick in a leaf 1 m wide, one shared tree learned on the lit face sent
-// half of the shadowed face's directions into the door (measured on scenes/door.gltf: guided
-// variance 15% above plain path tracing's; with sides, below it).
+// sideOf): in a leaf wider than a door is thick, one shared tree learned on the lit face sends
+// the shadowed face's directions into the door (docs: explanation/guiding.md).
 //
 // Records are integer energy units (QuadtreeRecorder): threads add them in any order and the
 // sums are the same bits, so the learned distributions, and the image, do not depend on the

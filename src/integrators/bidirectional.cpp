@@ -828,12 +828,8 @@ ParamSpec directMerges() {
 }
 
 // All three draw from Sobol' points by default: at equal iterations they lowered the error of
-// the best 99% of pixels on each of the four shipped scenes measured (docs: explanation/bidirectional.md, "Sampler"; seeds
-// 11–13, the ratio to the random stream's):
-//   bdpt  cornell-box 0.75, cornell-spheres 0.85, SmallVCM's box 0.77 (point light), 0.94 (sun);
-//   vcm   0.83, 0.88, 0.80, 0.88;
-//   bpm   0.90, 0.92, 0.90, 0.95;
-// for about 1% of an iteration. --sampler independent gives the random stream alone.
+// the best 99% of pixels on each of the four shipped scenes measured, for little time (docs:
+// explanation/bidirectional.md, "Sampler"). --sampler independent gives the random stream alone.
 ParamSpec sampler() {
   return params::sampler(kSamplerSlots, "subpath", "the iterations, per pixel and per light path", "sobol");
 }

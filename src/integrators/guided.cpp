@@ -265,9 +265,9 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   // iteration k is σ²_k/n_k). An iteration with a poorer guide has more variance and counts less.
   // σ²_k is estimated on the other colour of a checkerboard than the pixel's: weights estimated
   // from the pixel's own samples would be correlated with its values (an iteration that drew a
-  // firefly has a higher σ² and less weight), which biased the door scene's mean by −4% at
-  // 24×24; from other pixels' samples, the weights are independent of the values they weigh,
-  // and the combination is unbiased.
+  // firefly has a higher σ² and less weight), which biases the mean (docs: explanation/
+  // guiding.md); from other pixels' samples, the weights are independent of the values they
+  // weigh, and the combination is unbiased.
   std::vector<double> numerator(3 * pixels, 0.0), denominator(pixels, 0.0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
   uint64_t samplesTaken = 0;
@@ -324,9 +324,9 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
 
   // The unguided fallback. Guiding pays only where its lower variance per sample outweighs its
   // higher cost per sample: the efficiency of an estimator is 1/(σ²·t), σ² the variance of one
-  // sample and t its time. On the plain Cornell box a guided sample has 0.63× a path-traced
-  // one's variance but costs 1.8–2× as much (docs: results/guiding.md), so the guide loses time it cannot win
-  // back. With a time budget alone and fallback = auto, when the schedule reaches its last
+  // sample and t its time. Where a guided sample's lower variance does not pay for its higher
+  // cost (the plain Cornell box: docs explanation/guiding.md), the guide loses time it cannot
+  // win back. With a time budget alone and fallback = auto, when the schedule reaches its last
   // iteration a short unguided iteration (a sixteenth of the last guided one's samples, at
   // least 4 spp) measures the path tracer's σ²·t beside the last guided iteration's, and the last
   // iteration renders with whichever is lower. σ² is relative, as relMSE weighs errors (each
@@ -335,7 +335,7 @@ ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& optio
   // tracing. Every iteration, guided or not, is an unbiased
   // image of the same pixels, so the inverse-variance combination stays unbiased; the probe's
   // samples count in the image like any iteration's. The guided iteration's t includes its
-  // recording, which the last iteration would not do (~5%), so close calls go to path tracing.
+  // recording, which the last iteration would not do, so close calls go to path tracing.
   // Preparing the guide (a fresh photon map for the photon guide, a tree refit for the SD-tree)
   // is not a cost per sample: the last iteration pays it once, out of the time left T, and
   // samples in T − P. For equal variance of the remaining image, guided wins when

@@ -39,7 +39,7 @@ struct Photon {
 
   // --- flux: RGBE ---
   // Exponents are read from and written to the float bits directly: this runs once per stored
-  // photon, and frexp/ldexp/lround were 15% of photon tracing's instructions.
+  // photon, where frexp/ldexp/lround were a large share of photon tracing (docs: Performance).
   void setFlux(const Spectrum& f, float dither) {
     float m = maxComponent(f);
     if (!(m > 1e-30f && m < 1e30f)) {  // zero, negative, NaN or absurd: store nothing
@@ -51,7 +51,7 @@ struct Photon {
 #if defined(__SSE2__)
     // mantissa() on the three channels at once, bit for bit (tested): the same operations in
     // the same order, and maxps/minps pick NaN's second operand as std::max/min do here. The
-    // scalar form compiles to a compare-and-branch per clamp; this was 3% of photon tracing.
+    // scalar form compiles to a compare-and-branch per clamp.
     __m128 c = _mm_setr_ps(f.r, f.g, f.b, 0.0f);
     c = _mm_add_ps(_mm_mul_ps(_mm_max_ps(c, _mm_setzero_ps()), _mm_set1_ps(scale)), _mm_set1_ps(dither));
     __m128i q = _mm_cvttps_epi32(_mm_min_ps(c, _mm_set1_ps(255.0f)));
@@ -98,8 +98,8 @@ struct Photon {
   void setDirection(const Vec3& w, uint8_t flags) {
     float invL1 = 1.0f / (std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
 #if defined(__SSE2__)
-    // octahedral() and quantise() on (u, v) at once, bit for bit (tested); 3% of photon tracing
-    // in scalar form, whose fold needs two selects through the integer registers.
+    // octahedral() and quantise() on (u, v) at once, bit for bit (tested): the scalar form's
+    // fold needs two selects through the integer registers.
     const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     __m128 uv = _mm_mul_ps(_mm_setr_ps(w.x, w.y, 0.0f, 0.0f), _mm_set1_ps(invL1));
     __m128 vu = _mm_shuffle_ps(uv, uv, _MM_SHUFFLE(3, 2, 0, 1));

@@ -12,8 +12,8 @@ namespace {
 // nanoflann's view of the photons. Only the tree build reads points through kdtree_get_pt
 // (queries use PhotonDistance below). A Guarded cloud polls the build's budget every 2¹⁶ reads
 // (a few hundred microseconds of building) and throws BudgetExpired to abandon the build. The
-// poll sits in nanoflann's innermost loops and costs ~20% of the build (measured on 10M
-// photons: 2.5 s against 2.1 s), so only builds long enough to matter are guarded (see build()).
+// poll sits in nanoflann's innermost loops, where it keeps GCC from vectorising (docs:
+// Performance, Stopping on time), so only builds long enough to matter are guarded (build()).
 template <bool Guarded>
 struct PhotonCloud {
   const std::vector<Photon>* photons;
@@ -122,7 +122,7 @@ struct PhotonMap::Tree {
   PhotonCloud<false> cloud{&photons};
   PhotonCloud<true> guardedCloud{&photons};
   // One of the two, built by build() below (not by nanoflann's constructor, so that an expired
-  // budget can abandon it). Leaf size 24: NOTES measured 20–40 faster than 10 for k-NN gathers.
+  // budget can abandon it). Leaf size 24: leaves of 20–40 gather faster than 10 (docs: Performance).
   std::unique_ptr<Index<false>> index;
   std::unique_ptr<Index<true>> guardedIndex;
   explicit Tree(std::vector<Photon> p) : photons(std::move(p)) {}
@@ -175,7 +175,7 @@ uint64_t spreadBits(uint64_t v) {
 // Photons reordered along a Z-order curve, so that the kd-tree build and every gather read
 // memory mostly sequentially instead of jumping across the whole map. LSD radix sort in four
 // 12-bit passes that move the photons with their keys (a sort of indices followed by a
-// random-access permutation was measured as slow as the tree build itself).
+// random-access permutation would cost as much as the tree build).
 // Returns an empty array when the budget expires on the way (checked per chunk and per 2²⁰
 // photons of each radix pass).
 std::vector<Photon> sortByMortonCode(std::vector<std::vector<Photon>>& chunks, const Budget* budget) {
@@ -239,7 +239,7 @@ bool PhotonMap::build(std::vector<std::vector<Photon>> chunks, const Budget* bud
   if (photons.empty()) return true;
   auto tree = std::make_unique<Tree>(std::move(photons));
   // Guarded (stoppable) only when the build could outlast the overshoot the budget allows
-  // (Budget::granularity), at a conservative 0.2 µs per photon (measured 0.16 here): smaller
+  // (Budget::granularity), at a conservative 0.2 µs per photon (docs: Performance): smaller
   // maps, such as a progressive pass's, build at full speed and the budget is checked right after.
   const bool guarded = budget && 2e-7 * double(tree->photons.size()) > budget->granularity();
   if (!tree->build(guarded ? budget : nullptr)) return false;  // the partial tree goes with `tree`

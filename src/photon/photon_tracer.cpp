@@ -75,14 +75,11 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   const uint64_t chunkSize = 4096;
   size_t chunks = size_t((count + chunkSize - 1) / chunkSize);
   std::vector<std::vector<Photon>> buffers(chunks);
-  // Buffers are allocated by this thread, before the workers trace into them. Allocated by the
+  // Buffers are allocated by this thread, before the workers trace into them: allocated by the
   // workers, they came from glibc's per-thread arenas, whose growth and trimming (mprotect,
-  // madvise) serialise with the other thread's page faults: two threads traced at 43% of the
-  // bare Embree rate instead of 57% (docs: explanation/performance.md). They are allocated a wave at a time
-  // (256 chunks per thread, ~0.5 s of tracing), not all at once: each allocation is an mmap of
-  // its own (~7 µs, as is its munmap), so reserving 10⁸ paths' 24 000 buffers up front took
-  // 0.17 s before the first path, and freeing them when a budget stopped the tracing another
-  // 0.18 s, both past the budget. The wave's end costs at most a chunk (~2 ms) per thread.
+  // madvise) serialise with the other thread's page faults. They are allocated a wave at a time
+  // (256 chunks per thread), not all at once: each is an mmap of its own, and reserving (and
+  // freeing) a large map's buffers up front would run past a budget (docs: Performance).
   const int threads = resolveThreads(o.threads);
   const size_t wave = 256 * size_t(threads);
   std::atomic<bool> stopped{false};

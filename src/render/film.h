@@ -50,9 +50,8 @@ class SplatFilm {
   // With threads > 1 each thread owns a contiguous band of pixels and adds the splats that land
   // in it (every thread reads every splat; the adds, the cost, are split).
   //
-  // Splats land on scattered pixels, and added as they come each one missed the cache on its
-  // pixel's three sums (120 bytes, in a film of 31 MB at 512²): 70% of the adds' time sat on
-  // that load (perf annotate, bdpt on SmallVCM's box). So a band's splats are first grouped by
+  // Splats land on scattered pixels, and added as they come each one misses the cache on its
+  // pixel's three exact sums (docs: Performance). So a band's splats are first grouped by
   // blocks of kBlock pixels (a counting sort: one write stream per block, few enough to stay in
   // cache), then added block by block. Exact sums make the new order change no bit.
   void add(const std::vector<SplatBuffer>& buffers, int threads = 1) {

@@ -32,8 +32,7 @@ struct Camera {
   Ray generateRay(float x, float y, int width, int height) const {
     return generateRay(x, y, width, height, std::tan(0.5f * yfov));
   }
-  // The same with tan(yfov/2) computed once by the caller (one tan per camera ray was 1% of a
-  // path-traced sample).
+  // The same with tan(yfov/2) computed once by the caller, not once per camera ray.
   Ray generateRay(float x, float y, int width, int height, float tanHalf) const {
     float aspect = float(width) / float(height);
     float sx = (2.0f * x / width - 1.0f) * tanHalf * aspect;
