@@ -390,7 +390,7 @@ TEST_CASE("contract: the test-only integrator meets its closed forms exactly") {
   for (float v : renderEntry(*furnace, ao, closed, o, nullptr).data) CHECK(v == 0.0f);
 }
 
-TEST_CASE("contract: every integrator of radiance renders the closed furnace's L = Le/(1 − ρ) per pixel") {
+TEST_CASE("contract: every integrator of radiance renders the closed furnace's L = Le/(1 − ρ) per pixel", "[long]") {
   // Direct lighting's integrators are held to Le + ρLe instead; the others (the test-only ambient
   // occlusion) are not radiance, and the furnace says nothing about them.
   std::set<std::string> judged;
@@ -403,7 +403,7 @@ TEST_CASE("contract: every integrator of radiance renders the closed furnace's L
   CHECK(!judged.count("ao"));
 }
 
-TEST_CASE("contract: every integrator of radiance renders a lit floor's ρ/π·E per pixel - under every kind of light it carries") {
+TEST_CASE("contract: every integrator of radiance renders a lit floor's ρ/π·E per pixel - under every kind of light it carries", "[long]") {
   // One light of each LightType: delta position, delta direction, area, infinite. An integrator
   // that declares a kind it does not carry (radiosity and the sky) is not rendered with it.
   int judged = 0;
