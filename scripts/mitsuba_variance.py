@@ -179,7 +179,21 @@ def main(argv=None):
             if a.save and d == depths[-1]:
                 np.save(a.save + "-photonlab.npy", pl.mean(axis=0))
                 np.save(a.save + "-mitsuba.npy", mit.mean(axis=0))
+    print()
+    print(markdown_table(rows))
     return rows
+
+
+def markdown_table(rows):
+    """The ratios per depth as the results page shows them (scripts/results_pages.py --table mitsuba-variance)."""
+    lines = ["| max depth | all pixels: photonlab / Mitsuba variance | indirect pixels |", "|---|---|---|"]
+    for row in rows:
+        cells = []
+        for m in ("all", "indirect"):
+            (pmean, pv), (mmean, mv) = row["photonlab"][m], row["mitsuba"][m]
+            cells.append(f"{pv / mv:.3f}" if mv > 0 else "(black)")
+        lines.append(f"| {row['depth']} | {cells[0]} | {cells[1]} |")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -58,3 +58,16 @@ def test_ply_writer_round_trip(tmp_path):
     assert np.array_equal(v[:, :3], p) and np.array_equal(v[:, 3:], n)
     assert body[72] == 3 and list(np.frombuffer(body[73:85], "<i4")) == [0, 1, 2]
     assert len(body) == 85
+
+
+def test_markdown_table_gives_each_depth_s_variance_ratio_and_marks_black_pixels():
+    # The table results_pages.py puts on the Mitsuba page: photonlab's variance over Mitsuba's per
+    # pixel set; a set with no variance in Mitsuba's image (the indirect pixels at depth 1) is black.
+    rows = [{"depth": 1, "photonlab": {"all": (0.5, 0.02), "indirect": (0.0, 0.0)},
+             "mitsuba": {"all": (0.5, 0.04), "indirect": (0.0, 0.0)}},
+            {"depth": 64, "photonlab": {"all": (0.7, 0.03), "indirect": (0.1, 0.011)},
+             "mitsuba": {"all": (0.7, 0.03), "indirect": (0.1, 0.01)}}]
+    lines = mv.markdown_table(rows).splitlines()
+    assert lines[0].startswith("| max depth |") and lines[1] == "|---|---|---|"
+    assert lines[2] == "| 1 | 0.500 | (black) |"
+    assert lines[3] == "| 64 | 1.000 | 1.100 |"
