@@ -109,6 +109,21 @@ struct PixelAgreement {
   double meanRatio;    // mean(x₁ + x₂)/(2 mean(e))
   double p99t;         // 99th percentile of |t| over all pixels
 };
+// One seed's variance at pixel (x, y), green channel, from two seeds' differences d = a − b over
+// its 3×3 neighbourhood (clamped at the edges): mean(d²)/2.
+inline double neighbourhoodVariance(const ImageRGB& a, const ImageRGB& b, int x, int y) {
+  const int W = a.width, H = a.height;
+  double d2 = 0;
+  int n = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int u = std::clamp(x + dx, 0, W - 1), v = std::clamp(y + dy, 0, H - 1);
+      const double d = double(a.at(u, v).g) - double(b.at(u, v).g);
+      d2 += d * d, ++n;
+    }
+  return d2 / n / 2;
+}
+
 inline PixelAgreement pixelAgreement(const ImageRGB& a, const ImageRGB& b, const ImageRGB& e) {
   const int W = e.width, H = e.height;
   const double mean = meanOf(e);
@@ -117,16 +132,8 @@ inline PixelAgreement pixelAgreement(const ImageRGB& a, const ImageRGB& b, const
   double sum = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      double d2 = 0;
-      int n = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int u = std::clamp(x + dx, 0, W - 1), v = std::clamp(y + dy, 0, H - 1);
-          double d = g(a, u, v) - g(b, u, v);
-          d2 += d * d, ++n;
-        }
       // A floor of 10⁻⁴ of the mean level: exact estimators (a directional light's shadow rays) have no noise.
-      double sigma = std::max(std::sqrt(d2 / n / 2), 1e-4 * mean);
+      double sigma = std::max(std::sqrt(neighbourhoodVariance(a, b, x, y)), 1e-4 * mean);
       t.push_back(std::abs(g(a, x, y) - g(e, x, y)) / sigma);
       if (g(e, x, y) > 0.1 * mean) ratio.push_back(g(a, x, y) / g(e, x, y));
       sum += g(a, x, y) + g(b, x, y);

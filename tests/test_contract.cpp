@@ -214,16 +214,8 @@ ClosedFormAgreement agreement(const ImageRGB& a, const ImageRGB& b, const ImageR
   std::vector<double> z;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      double d2 = 0;
-      int n = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int u = std::clamp(x + dx, 0, W - 1), v = std::clamp(y + dy, 0, H - 1);
-          const double d = g(a, u, v) - g(b, u, v);
-          d2 += d * d, ++n;
-        }
       const double mean = (g(a, x, y) + g(b, x, y)) / 2, expected = g(e, x, y);
-      const double sigma2 = d2 / n / 2 / 2 + 1e-4 * expected * expected;
+      const double sigma2 = neighbourhoodVariance(a, b, x, y) / 2 + 1e-4 * expected * expected;
       z.push_back(std::abs(mean - expected) / std::sqrt(sigma2));
       r.mean += mean / (W * H), r.expected += expected / (W * H);
     }
