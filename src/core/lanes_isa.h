@@ -2,10 +2,9 @@
 //
 // The AVX-512 copy runs where the CPU has AVX-512 (x86-64-v4). The baseline copy runs anywhere
 // but slowly: without 64-byte registers GCC splits every 16-lane comparison lane by lane, and
-// the kernel is slower than one path at a time (an AVX2 copy too; docs/pages/explanation/
-// performance.md). So without AVX-512 the callers run their
-// one-path code instead, unless PHOTONLAB_LANES_ISA (avx512 or baseline) asks for a copy: tests
-// use it to check both copies on one machine.
+// the kernel is slower than one path at a time (an AVX2 copy too; docs: Performance). So
+// without AVX-512 the callers run their one-path code instead, unless PHOTONLAB_LANES_ISA
+// (avx512 or baseline) asks for a copy: tests use it to check both copies on one machine.
 #pragma once
 #include <cstdlib>
 #include <cstring>
