@@ -490,16 +490,10 @@ class VertexConnectionMerging::Tracer {
   // measure.
   // mergeHere: merging at this vertex is a technique (BidirectionalOptions::mergesAt).
   bool scatter(const SurfaceHit& hit, const Vec3& wo, Sampler& sampler, SubPath& path, bool mergeHere) const {
-    BSDFSample bs;
-    const Vec3 woLocal = hit.shading.toLocal(wo);
-    const BSDFContext bc = bsdfContext(hit, path.lambda);
-    const Vec2 u = sampler.get2D();
-    if (!hit.bsdf->sample(woLocal, bc, u, sampler.get1D(), &bs)) return false;
-    if (bs.terminatesSecondary) path.lambda.terminateSecondary();
-    const Vec3 wi = hit.shading.toWorld(bs.wi);
-    if (leaksLight(hit, wo, wi, woLocal, bs.wi)) return false;
-    if (!advance(hit, woLocal, bc, bs, wi, path, mergeHere)) return false;
-    path.ray = scene_.spawnRay(hit, wi);
+    LightScatter s;
+    if (!scatterBSDF(hit, wo, sampler, path.lambda, TransportMode::Radiance, ShadingCheck::kEveryVertex, &s)) return false;
+    if (!advance(hit, s.woLocal, s.bc, s.bs, s.wi, path, mergeHere)) return false;
+    path.ray = scene_.spawnRay(hit, s.wi);
     return !isBlack(path.beta);
   }
 

@@ -53,13 +53,14 @@ struct LightScatter {
 // no direction can leak; skipping them is the photon tracer's saving).
 enum class ShadingCheck { kEveryVertex, kWhereNormalsDiffer };
 
-// Samples the adjoint BSDF at `hit` (draws: a direction, 2D; a lobe, 1D). False: no direction,
-// or one that would leak through the surface.
+// Samples the BSDF at `hit` (draws: a direction, 2D; a lobe, 1D): the adjoint for light paths
+// (importance), as is for camera paths (radiance, where the correction is 1). False: no
+// direction, or one that would leak through the surface.
 template <class Draws>
-bool scatterImportance(const SurfaceHit& hit, const Vec3& wo, Draws& draws, SampledWavelengths& lambda, ShadingCheck check,
-                       LightScatter* s) {
+bool scatterBSDF(const SurfaceHit& hit, const Vec3& wo, Draws& draws, SampledWavelengths& lambda, TransportMode mode,
+                 ShadingCheck check, LightScatter* s) {
   s->woLocal = hit.shading.toLocal(wo);
-  s->bc = bsdfContext(hit, lambda, TransportMode::Importance);
+  s->bc = bsdfContext(hit, lambda, mode);
   const Vec2 u = draws.get2D();
   const float uc = draws.get1D();
   // Most hits are diffuse: Lambertian (final) is called without the virtual call.
@@ -71,7 +72,7 @@ bool scatterImportance(const SurfaceHit& hit, const Vec3& wo, Draws& draws, Samp
   s->wi = hit.shading.toWorld(s->bs.wi);
   if (check == ShadingCheck::kEveryVertex || hit.shadingDiffers()) {
     if (leaksLight(hit, wo, s->wi, s->woLocal, s->bs.wi)) return false;
-    s->bs.weight *= shadingNormalCorrection(s->woLocal, s->bs.wi, hit.shading.toLocal(hit.ng), TransportMode::Importance);
+    s->bs.weight *= shadingNormalCorrection(s->woLocal, s->bs.wi, hit.shading.toLocal(hit.ng), mode);
   }
   return true;
 }
@@ -87,7 +88,7 @@ void walkLightPath(const Scene& scene, Ray ray, Draws& draws, SampledWavelengths
     const Vec3 wo = -ray.d;
     if (!walker.vertex(hit, wo, length)) return;
     LightScatter s;
-    if (!scatterImportance(hit, wo, draws, lambda, check, &s)) return;
+    if (!scatterBSDF(hit, wo, draws, lambda, TransportMode::Importance, check, &s)) return;
     if (!walker.scattered(hit, s, length, draws)) return;
     ray = scene.spawnRay(hit, s.wi);
   }
