@@ -17,6 +17,7 @@
 #include "scene_helpers.h"
 
 using namespace pl;
+using Catch::Matchers::Contains;
 
 namespace {
 
@@ -361,4 +362,125 @@ TEST_CASE("parallelFor on the pool: every item once, thread indices below the co
   parallelFor(1000, 2, [](size_t, int) { Scene::countRays(3, 2); });
   CHECK(Scene::raysTraced() - before == 5000);
   CHECK(Scene::shadowRaysTraced() - shadowBefore == 2000);
+}
+
+namespace {
+// A learning integrator of known images, for the pixel loop's training hook. Each iteration's
+// samples are `value[k]` (grey), plus U(0, 2) where `noisy[k]` (σ² = 1/3), or, where `echo[k]`,
+// the pixel's value from the iterations before, as the loop hands it over.
+struct Plan {
+  std::vector<int> samples;
+  std::vector<float> value;
+  std::vector<bool> noisy, echo;
+  bool replaces = false;
+};
+class Learner final : public PixelIntegrator, private TrainingHook {
+ public:
+  explicit Learner(Plan plan) : plan_(std::move(plan)) {}
+  Spectrum Li(const Ray&, const Scene&, SampledWavelengths&, Sampler& sampler) const override {
+    const size_t k = size_t(iteration_);
+    return Spectrum(plan_.value[k] + (plan_.noisy[k] ? 2 * sampler.get1D() : 0.0f));
+  }
+  void LiPacket(CameraSample* samples, int n, const Scene& scene) const override {
+    for (int i = 0; i < n; ++i) {
+      CameraSample& c = samples[i];
+      c.L = plan_.echo[size_t(iteration_)] ? Spectrum(c.pixelEstimate) : Li(c.ray, scene, *c.lambda, *c.sampler);
+      int seen = maxThread_.load();
+      while (c.thread > seen && !maxThread_.compare_exchange_weak(seen, c.thread)) {}
+    }
+  }
+  TrainingHook* training() override { return this; }
+  const char* name() const override { return "learner"; }
+
+  std::vector<int> indices;
+  std::vector<IterationReport> reports;
+  int threads = 0;
+  int maxThread() const { return maxThread_.load(); }
+
+ private:
+  Iteration beforeIteration(const Scene&, int index, const RenderOptions&, int threadCount, const Budget&) override {
+    indices.push_back(index);
+    threads = threadCount;
+    iteration_ = index;
+    if (size_t(index) >= plan_.samples.size()) return {};
+    return {plan_.samples[size_t(index)], size_t(index) + 1 == plan_.samples.size(), plan_.replaces};
+  }
+  void afterIteration(const IterationReport& r) override { reports.push_back(r); }
+
+  Plan plan_;
+  int iteration_ = 0;
+  mutable std::atomic<int> maxThread_{-1};
+};
+
+double imageMean(const ImageRGB& image) {
+  double s = 0;
+  for (float v : image.data) s += v;
+  return s / double(image.data.size());
+}
+}  // namespace
+
+TEST_CASE("pixel loop: an integrator that learns renders in iterations, its hook called between them, their images combined by inverse variance") {
+  auto scene = floorScene(1.0f, 0.5f);
+  RenderOptions o;
+  o.width = o.height = 32;
+  o.threads = 2;
+  RenderInfo info;
+
+  SECTION("exact images weigh by their sample counts: (2·1 + 3·6)/5 = 4; the last alone where it replaces") {
+    o.spp = 5;
+    Learner both(Plan{{2, 3}, {1, 6}, {false, false}, {false, false}});
+    ImageRGB image = render(*scene, both, o, &info);
+    for (float v : image.data) REQUIRE(v == Approx(4.0f).epsilon(1e-6));
+    CHECK(info.spp == 5);
+    CHECK(both.indices == std::vector<int>{0, 1});  // not called after the last iteration
+    REQUIRE(both.reports.size() == 2);
+    CHECK(both.reports[0].samples == 2);
+    CHECK(both.reports[1].least == 3);
+    CHECK(both.reports[1].variance == 0.0);
+    CHECK(both.reports[1].seconds >= both.reports[1].trainingSeconds);
+    CHECK(both.threads == 2);
+    CHECK(both.maxThread() >= 0);
+    CHECK(both.maxThread() < 2);
+    Learner last(Plan{{2, 3}, {1, 6}, {false, false}, {false, false}, /*replaces=*/true});
+    for (float v : render(*scene, last, o, nullptr).data) REQUIRE(v == 6.0f);
+  }
+
+  SECTION("the hook sees each pixel's value so far; an exact iteration outweighs a noisy one; σ² of one sample is measured") {
+    // Iteration 0: U(0, 2), σ² = 1/3, one sample per pixel (σ² then from diagonal neighbours'
+    // differences) or two. Iteration 1 repeats each pixel's value so far: σ² = 0, so the image
+    // is iteration 0's, pixel for pixel.
+    for (int first : {1, 2}) {
+      INFO("iteration 0 with " << first << " samples per pixel");
+      o.spp = first;
+      Learner alone(Plan{{first}, {0}, {true}, {false}});
+      ImageRGB noisy = render(*scene, alone, o, nullptr);
+      o.spp = first + 3;
+      Learner echo(Plan{{first, 3}, {0, 0}, {true, false}, {false, true}});
+      ImageRGB image = render(*scene, echo, o, &info);
+      for (size_t i = 0; i < image.data.size(); ++i) REQUIRE(image.data[i] == Approx(noisy.data[i]).epsilon(1e-6));
+      // The pooled σ² has ≈ 1024 degrees of freedom: its standard error is σ²·√(2/1024) ≈ 0.015.
+      REQUIRE(echo.reports.size() == 2);
+      CHECK(echo.reports[0].variance == Approx(1.0 / 3).margin(5 * 0.0147));
+      CHECK(echo.reports[1].variance < 1e-12);
+      CHECK(imageMean(noisy) == Approx(1.0).margin(5 * std::sqrt(1.0 / 3 / (1024.0 * first))));
+    }
+  }
+
+  SECTION("the hook ends the render: with fewer passes than asked for, or none") {
+    o.spp = 8;
+    Learner shorter(Plan{{1, 1}, {2, 2}, {false, false}, {false, false}});
+    for (float v : render(*scene, shorter, o, &info).data) REQUIRE(v == 2.0f);
+    CHECK(info.spp == 2);
+    Learner none(Plan{{}, {}, {}, {}});
+    for (float v : render(*scene, none, o, &info).data) REQUIRE(v == 0.0f);
+    CHECK(info.spp == 0);
+    CHECK(none.reports.empty());
+  }
+
+  SECTION("its slices would not add up: a sliced render is refused") {
+    o.spp = 4;
+    o.rangeBegin = 0, o.rangeEnd = 2;
+    Learner l(Plan{{4}, {1}, {false}, {false}});
+    CHECK_THROWS_WITH(render(*scene, l, o, nullptr), Contains("learns between iterations"));
+  }
 }

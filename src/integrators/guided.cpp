@@ -1,18 +1,16 @@
 // Path guiding (`--integrator guided`), readable top to bottom: the camera path with its mixture
-// of BSDF and guide sampling and the records it leaves, the iterations that train the guide and
-// how their images are combined, the registration.
+// of BSDF and guide sampling and the records it leaves, the training hook that schedules the
+// iterations and trains the guide between them (the pixel loop, render/renderer.cpp, runs their
+// passes and combines their images), the registration.
 #include "integrators/guided.h"
 
 #include <cmath>
 #include <limits>
 
-#include "core/parallel.h"
 #include "integrators/builtins.h"
 #include "integrators/path.h"
 #include "integrators/path_step.h"
-#include "render/camera_path.h"
-#include "render/session.h"
-#include "spectral/spectral.h"
+#include "render/checkpoints.h"
 
 namespace pl {
 
@@ -179,7 +177,7 @@ Spectrum GuidedIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
   return L;
 }
 
-// --- iterations --------------------------------------------------------------------------------
+// --- the training hook: the iterations' schedule --------------------------------------------
 
 std::vector<int> GuidedIntegrator::schedule(int spp) {
   std::vector<int> n;
@@ -193,275 +191,131 @@ std::vector<int> GuidedIntegrator::schedule(int spp) {
   return n;
 }
 
-namespace {
-
-// One iteration's per-pixel sums: Σ L per channel, and Σ a and Σ a² of a = mean(L over channels)
-// for its variance; each pixel is touched by one thread per pass, in sample order.
-struct IterationSums {
-  std::vector<double> sum, a, a2;
-  std::vector<uint32_t> count;
-  explicit IterationSums(size_t pixels) : sum(3 * pixels, 0.0), a(pixels, 0.0), a2(pixels, 0.0), count(pixels, 0) {}
-};
-
-// The variance of one sample of this iteration, pooled over the pixels of one colour of a
-// checkerboard ((x + y) mod 2 = parity): Σ (Σa² − (Σa)²/n) / Σ (n − 1). With one sample per
-// pixel there is no within-pixel spread; then differences of diagonal neighbours (the same
-// colour) stand in, σ² ≈ mean((a_{x,y} − a_{x+1,y+1})²)/2, an overestimate wherever the image
-// has edges (it can only lower that iteration's weight).
-double sampleVariance(const IterationSums& it, int W, int H, int parity) {
-  double ss = 0, dof = 0;
-  for (int y = 0; y < H; ++y)
-    for (int x = (y + parity) & 1; x < W; x += 2) {
-      size_t i = size_t(y) * W + x;
-      if (it.count[i] < 2) continue;
-      ss += it.a2[i] - it.a[i] * it.a[i] / it.count[i];
-      dof += it.count[i] - 1;
-    }
-  if (dof > 0) return std::max(0.0, ss / dof);
-  double d2 = 0;
-  size_t pairs = 0;
-  for (int y = 0; y + 1 < H; ++y)
-    for (int x = (y + parity) & 1; x + 1 < W; x += 2) {
-      size_t i = size_t(y) * W + x, j = i + W + 1;
-      if (!it.count[i] || !it.count[j]) continue;
-      double d = it.a[i] / it.count[i] - it.a[j] / it.count[j];
-      d2 += d * d, ++pairs;
-    }
-  return pairs ? d2 / pairs / 2 : 0.0;
-}
-
-// The relative variance of one sample of this iteration, as relMSE weighs errors: each pixel's
-// sample variance (of the channel mean a) over m² + 0.01, m the pixel's value in `image` (Σ w·mean
-// over Σ w per pixel), averaged over the pixels with two samples or more (0 if none has).
-double relativeVariance(const IterationSums& it, const std::vector<double>& numerator, const std::vector<double>& denominator) {
-  double sum = 0;
-  size_t pixels = 0;
-  for (size_t i = 0; i < it.count.size(); ++i) {
-    const uint32_t n = it.count[i];
-    if (n < 2 || !(denominator[i] > 0)) continue;
-    const double m = (numerator[3 * i] + numerator[3 * i + 1] + numerator[3 * i + 2]) / (3 * denominator[i]);
-    sum += std::max(0.0, it.a2[i] - it.a[i] * it.a[i] / n) / (n - 1) / (m * m + 0.01);
-    ++pixels;
+void GuidedIntegrator::LiPacket(CameraSample* samples, int n, const Scene& scene) const {
+  for (int k = 0; k < n; ++k) {
+    CameraSample& c = samples[k];
+    c.L = unguided_ ? pathTracer_.Li(c.ray, scene, *c.lambda, *c.sampler)
+                    : Li(c.ray, scene, *c.lambda, *c.sampler, *guide_, record_, c.thread, c.pixelEstimate);
   }
-  return pixels ? sum / double(pixels) : 0.0;
 }
 
-}  // namespace
+Spectrum GuidedIntegrator::Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const {
+  return guide_ ? Li(ray, scene, lambda, sampler, *guide_, false, 0, 0.0f) : pathTracer_.Li(ray, scene, lambda, sampler);
+}
 
-ImageRGB GuidedIntegrator::render(const Scene& scene, const RenderOptions& options, RenderInfo* stats) {
-  // Training and photon tracing count towards the render time.
-  RenderSession session(scene, options, 6 * sizeof(double) + 4 * sizeof(double) + sizeof(uint32_t) + 3 * sizeof(float), "image");
-  const RenderOptions& o = session.options();
-  const int W = session.width, H = session.height, threads = session.threads;
-  const size_t pixels = session.pixels;
-  Budget& budget = session.budget;
-  GuideOptions go = options_.guideOptions;
-  go.maxDepth = options_.maxDepth;
-  go.spectral = o.spectral;
-  std::unique_ptr<Guide> guide = options_.guide == "photons" ? makePhotonGuide(scene, go) : makeSDTreeGuide(scene, go);
-
-  // The image so far: Σ_k w_k·(pixel mean of iteration k), and Σ_k w_k, per pixel, with
-  // w_k = n_k(pixel)/σ²_k: inverse-variance weights (the variance of a pixel's mean in
-  // iteration k is σ²_k/n_k). An iteration with a poorer guide has more variance and counts less.
-  // σ²_k is estimated on the other colour of a checkerboard than the pixel's: weights estimated
-  // from the pixel's own samples would be correlated with its values (an iteration that drew a
-  // firefly has a higher σ² and less weight), which biases the mean (docs: explanation/
-  // guiding.md); from other pixels' samples, the weights are independent of the values they
-  // weigh, and the combination is unbiased.
-  std::vector<double> numerator(3 * pixels, 0.0), denominator(pixels, 0.0);
-  std::vector<uint64_t> nonFinite(size_t(H), 0);
-  uint64_t samplesTaken = 0;
-  const bool lastOnly = options_.combine == "last";
-  auto addIteration = [&](const IterationSums& it, std::vector<double>& num, std::vector<double>& den) {
-    // Exact images (no noise) are weighted by their sample counts alone.
-    const double v[2] = {std::max(sampleVariance(it, W, H, 1), 1e-30), std::max(sampleVariance(it, W, H, 0), 1e-30)};
-    if (lastOnly) std::fill(num.begin(), num.end(), 0.0), std::fill(den.begin(), den.end(), 0.0);
-    for (size_t i = 0; i < pixels; ++i) {
-      if (!it.count[i]) continue;
-      const int parity = int((i % size_t(W) + i / size_t(W)) & 1);
-      const double w = it.count[i] / v[parity];  // the other colour's variance
-      for (int c = 0; c < 3; ++c) num[3 * i + c] += w * (it.sum[3 * i + c] / it.count[i]);
-      den[i] += w;
-    }
-  };
-  // Each pixel's value from the iterations before this one (channel mean; 0 before the first
-  // ends), for the roulette (Li).
-  auto pixelValue = [&](size_t i) {
-    return denominator[i] > 0
-               ? float((numerator[3 * i] + numerator[3 * i + 1] + numerator[3 * i + 2]) / (3 * denominator[i]))
-               : 0.0f;
-  };
-  std::unique_ptr<IterationSums> current;
-  auto estimate = [&] {
-    std::vector<double> num = numerator, den = denominator;
-    if (current) addIteration(*current, num, den);
-    ImageRGB image(W, H);
-    for (size_t i = 0; i < pixels; ++i)
-      if (den[i] > 0)
-        for (int c = 0; c < 3; ++c) image.data[3 * i + c] = float(num[3 * i + c] / den[i]);
-    return image;
-  };
-  int done = 0;  // samples per pixel every pixel has
-  auto infoAt = [&](bool last) {
-    RenderInfo st = session.info(last);
-    st.spp = done;
-    st.meanWork = pixels ? double(samplesTaken) / pixels : 0.0;
-    for (auto n : nonFinite) st.nonFiniteSamples += n;
-    return st;
-  };
-
-  const int target = unitTarget(o.spp, o.timeLimit);
-  // With a sample count: the fixed schedule. With a time budget alone: iterations double while
-  // the time left after the next would still pay for one twice as long (measured seconds per
-  // sample of the iteration before), and the last runs until the budget is spent.
-  const std::vector<int> fixed = target < INT_MAX ? schedule(target) : std::vector<int>();
-  Progress progress(o, target);
-  Checkpoints checkpoints(o, budget);
-  double secondsPerSample = 0;
-  int iterations = 0, lastSamples = 0;
-  std::string guideSize;
-  std::vector<double> variances;  // each iteration's σ² of one sample, for the notes
-
-  // The unguided fallback. Guiding pays only where its lower variance per sample outweighs its
-  // higher cost per sample: the efficiency of an estimator is 1/(σ²·t), σ² the variance of one
-  // sample and t its time. Where a guided sample's lower variance does not pay for its higher
-  // cost (the plain Cornell box: docs explanation/guiding.md), the guide loses time it cannot
-  // win back. With a time budget alone and fallback = auto, when the schedule reaches its last
-  // iteration a short unguided iteration (a sixteenth of the last guided one's samples, at
-  // least 4 spp) measures the path tracer's σ²·t beside the last guided iteration's, and the last
-  // iteration renders with whichever is lower. σ² is relative, as relMSE weighs errors (each
-  // pixel's variance over m² + 0.01, relativeVariance): the absolute variance is the bright
-  // pixels', and on Veach's door, where the guide's gain is in the dim room, it chose path
-  // tracing. Every iteration, guided or not, is an unbiased
-  // image of the same pixels, so the inverse-variance combination stays unbiased; the probe's
-  // samples count in the image like any iteration's. The guided iteration's t includes its
-  // recording, which the last iteration would not do, so close calls go to path tracing.
-  // Preparing the guide (a fresh photon map for the photon guide, a tree refit for the SD-tree)
-  // is not a cost per sample: the last iteration pays it once, out of the time left T, and
-  // samples in T − P. For equal variance of the remaining image, guided wins when
-  // σ_g²·t_g·T/(T − P) < σ_p²·t_p, t_g its seconds per sample without P, P the last guided
-  // iteration's preparation (at the small budgets where the schedule reaches its last iteration
-  // after a few samples, P dominated t_g and sent every photon-guided render to path tracing).
-  // With a sample count (no time budget) the schedule is kept: samples, not time, are the budget.
-  // Its Li is called one sample at a time here, so the lanes (a batch of rows) do not apply.
-  const PathIntegrator pathTracer(options_.maxDepth, /*sobol=*/false, /*lanes=*/false, /*spectral=*/false);
-  const bool autoFallback = options_.fallback == "auto" && fixed.empty();
+// With a sample count: the fixed schedule. With a time budget alone: iterations double while the
+// time left after the next would still pay for one twice as long (measured seconds per sample of
+// the iteration before), and the last runs until the budget is spent.
+//
+// The unguided fallback. Guiding pays only where its lower variance per sample outweighs its
+// higher cost per sample: the efficiency of an estimator is 1/(σ²·t), σ² the variance of one
+// sample and t its time. Where a guided sample's lower variance does not pay for its higher cost
+// (the plain Cornell box: docs explanation/guiding.md), the guide loses time it cannot win back.
+// With a time budget alone and fallback = auto, when the schedule reaches its last iteration a
+// short unguided iteration (a sixteenth of the last guided one's samples, at least 4 spp)
+// measures the path tracer's σ²·t beside the last guided iteration's, and the last iteration
+// renders with whichever is lower. σ² is relative, as relMSE weighs errors (IterationReport): the
+// absolute variance is the bright pixels', and on Veach's door, where the guide's gain is in the
+// dim room, it chose path tracing. Every iteration, guided or not, is an unbiased image of the
+// same pixels, so the inverse-variance combination stays unbiased; the probe's samples count in
+// the image like any iteration's. The guided iteration's t includes its recording, which the last
+// iteration would not do, so close calls go to path tracing. Preparing the guide (a fresh photon
+// map for the photon guide, a tree refit for the SD-tree) is not a cost per sample: the last
+// iteration pays it once, out of the time left T, and samples in T − P. For equal variance of the
+// remaining image, guided wins when σ_g²·t_g·T/(T − P) < σ_p²·t_p, t_g its seconds per sample
+// without P, P the last guided iteration's preparation (at the small budgets where the schedule
+// reaches its last iteration after a few samples, P dominated t_g and sent every photon-guided
+// render to path tracing). With a sample count (no time budget) the schedule is kept: samples,
+// not time, are the budget.
+Iteration GuidedIntegrator::beforeIteration(const Scene& scene, int k, const RenderOptions& o, int threads,
+                                            const Budget& budget) {
+  if (k == 0) {
+    GuideOptions go = options_.guideOptions;
+    go.maxDepth = options_.maxDepth;
+    go.spectral = o.spectral;
+    guide_ = options_.guide == "photons" ? makePhotonGuide(scene, go) : makeSDTreeGuide(scene, go);
+    const int target = unitTarget(o.spp, o.timeLimit);
+    run_ = Schedule{};
+    run_.fixed = target < INT_MAX ? schedule(target) : std::vector<int>();
+    run_.timeLimit = o.timeLimit;
+  }
+  Schedule& r = run_;
+  const bool autoFallback = options_.fallback == "auto" && r.fixed.empty();
   const bool alwaysFallback = options_.fallback == "always";
-  bool probed = false, unguidedWins = false;
-  double guidedCost = 0, unguidedCost = 0;  // σ²·t of the last guided iteration and of the probe
-  double guidedRelative = 0, guidedSeconds = 0, prepareSeconds = 0;  // its σ², t_g and P
-  int guidedIterations = 0, guidedSamples = 0;
-  for (int k = 0; !budget.expired(); ++k) {
-    int samples;
-    bool last, unguided = false, probe = false;
-    if (!fixed.empty()) {
-      if (size_t(k) >= fixed.size()) break;
-      samples = fixed[size_t(k)];
-      last = size_t(k) + 1 == fixed.size();
-      unguided = last && alwaysFallback;
-    } else if (probed) {
-      last = true, unguided = unguidedWins;
-      samples = INT_MAX - done;
-    } else {
-      samples = 1 << std::min(k, 24);
-      const double left = o.timeLimit - budget.elapsed();
-      last = k > 0 && left < 3 * secondsPerSample * samples;
-      // Any guided iteration before the last gives σ²·t to compare with. (This asked for three
-      // once; where photon tracing is slow, under the sanitizers, the schedule reached its last
-      // iteration after two and skipped the probe.)
-      if (last && autoFallback && guidedIterations > 0) {
-        last = false, unguided = probe = true;
-        samples = std::max(4, guidedSamples / 16);
-      } else if (last) {
-        unguided = alwaysFallback;
-        samples = INT_MAX - done;
-      }
-    }
-    const double started = budget.elapsed();
-    double prepared = started;
-    if (!unguided) {
-      guide->prepare(scene, guidedIterations++, samples, last, o.seed, threads, budget);
-      if (budget.expired()) break;
-      guideSize = guide->describe();
-      prepared = budget.elapsed();
-    }
-    const bool record = !unguided && guide->learns() && !last;
-    current = std::make_unique<IterationSums>(pixels);
-    IterationSums& it = *current;
-    for (int s = 0; s < samples && !budget.expired(); ++s) {
-      const int sample = done + s;  // keyed by the render's sample index, as every per-pixel loop
-      parallelFor(size_t(H), threads, [&](size_t y, int thread) {
-        for (int x = 0; x < W; ++x) {
-          if (budget.expired()) return;
-          const size_t pixel = size_t(y) * W + x;
-          CameraPath path = beginCameraPath(scene, o, x, int(y), uint64_t(sample));
-          Sampler sampler(path.rng);
-          Spectrum L = unguided ? pathTracer.Li(path.ray, scene, path.lambda, sampler)
-                                : Li(path.ray, scene, path.lambda, sampler, *guide, record, thread, pixelValue(pixel));
-          if (o.spectral) L = spectralToRGB(L, path.lambda.lambda);
-          ++it.count[pixel];
-          if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
-            ++nonFinite[y];
-            continue;
-          }
-          for (int c = 0; c < 3; ++c) it.sum[3 * pixel + c] += L[c];
-          const double a = average(L);
-          it.a[pixel] += a, it.a2[pixel] += a * a;
-        }
-      });
-      if (!budget.expired()) {
-        const int total = done + s + 1;
-        progress.update(total, budget.elapsed());
-        checkpoints.after(total, total >= target, [&](bool l) {
-          RenderInfo st = infoAt(l);
-          st.spp = total;
-          return st;
-        }, estimate);
-      }
-    }
-    for (uint32_t n : it.count) samplesTaken += n;
-    uint32_t least = UINT32_MAX;
-    for (uint32_t n : it.count) least = std::min(least, n);
-    variances.push_back((sampleVariance(it, W, H, 0) + sampleVariance(it, W, H, 1)) / 2);
-    addIteration(it, numerator, denominator);
-    const double relative = probe || !unguided ? relativeVariance(it, numerator, denominator) : 0.0;
-    current.reset();
-    done += int(least);
-    ++iterations;
-    lastSamples = int(least);
-    secondsPerSample = (budget.elapsed() - started) / std::max(1, samples);
-    if (probe) {
-      unguidedCost = relative * secondsPerSample;
-      const double left = o.timeLimit - budget.elapsed();
-      guidedCost = left > prepareSeconds ? guidedRelative * guidedSeconds * left / (left - prepareSeconds)
-                                         : std::numeric_limits<double>::infinity();
-      unguidedWins = unguidedCost < guidedCost;
-      probed = true;
-    } else if (!unguided && !last) {
-      guidedRelative = relative;
-      guidedSeconds = (budget.elapsed() - prepared) / std::max(1, samples);
-      prepareSeconds = prepared - started;
-      guidedCost = relative * guidedSeconds;  // reported as measured, without P, if no probe follows
-      guidedSamples = samples;
-    }
-    if (last) {
-      if (unguided) guideSize += "; the last iteration path-traced";
-      break;
+  int samples;
+  bool last, unguided = false, probe = false;
+  if (!r.fixed.empty()) {
+    if (size_t(k) >= r.fixed.size()) return {};
+    samples = r.fixed[size_t(k)];
+    last = size_t(k) + 1 == r.fixed.size();
+    unguided = last && alwaysFallback;
+  } else if (r.probed) {
+    last = true, unguided = r.unguidedWins;
+    samples = INT_MAX - r.done;
+  } else {
+    samples = 1 << std::min(k, 24);
+    const double left = o.timeLimit - budget.elapsed();
+    last = k > 0 && left < 3 * r.secondsPerSample * samples;
+    // Any guided iteration before the last gives σ²·t to compare with. (This asked for three
+    // once; where photon tracing is slow, under the sanitizers, the schedule reached its last
+    // iteration after two and skipped the probe.)
+    if (last && autoFallback && r.guidedIterations > 0) {
+      last = false, unguided = probe = true;
+      samples = std::max(4, r.guidedSamples / 16);
+    } else if (last) {
+      unguided = alwaysFallback;
+      samples = INT_MAX - r.done;
     }
   }
-  checkpoints.finish(infoAt, estimate);
+  if (!unguided) {
+    guide_->prepare(scene, r.guidedIterations++, samples, last, o.seed, threads, budget);
+    if (budget.expired()) return {};
+    r.guideSize = guide_->describe();
+  }
+  unguided_ = unguided, probe_ = probe, last_ = last;
+  record_ = !unguided && guide_->learns() && !last;
+  return {samples, last, options_.combine == "last"};
+}
+
+void GuidedIntegrator::afterIteration(const IterationReport& report) {
+  Schedule& r = run_;
+  r.done += report.least;
+  ++r.iterations;
+  r.lastSamples = report.least;
+  r.variances.push_back(report.variance);
+  r.secondsPerSample = report.seconds / std::max(1, report.samples);
+  if (probe_) {
+    r.unguidedCost = report.relativeVariance * r.secondsPerSample;
+    const double left = r.timeLimit - report.elapsed;
+    r.guidedCost = left > r.prepareSeconds ? r.guidedRelative * r.guidedSeconds * left / (left - r.prepareSeconds)
+                                           : std::numeric_limits<double>::infinity();
+    r.unguidedWins = r.unguidedCost < r.guidedCost;
+    r.probed = true;
+  } else if (!unguided_ && !last_) {
+    r.guidedRelative = report.relativeVariance;
+    r.guidedSeconds = (report.seconds - report.trainingSeconds) / std::max(1, report.samples);
+    r.prepareSeconds = report.trainingSeconds;
+    r.guidedCost = r.guidedRelative * r.guidedSeconds;  // reported as measured, without P, if no probe follows
+    r.guidedSamples = report.samples;
+  }
+  if (last_ && unguided_) r.guideSize += "; the last iteration path-traced";
+}
+
+std::vector<std::string> GuidedIntegrator::notes() const {
+  const Schedule& r = run_;
+  if (!guide_) return {};
   std::string sigma;
-  for (double v : variances) sigma += (sigma.empty() ? "" : ", ") + formatNumber(float(v));
-  notes_ = {std::to_string(iterations) + " iterations (the last " + std::to_string(lastSamples) + " spp), " +
-                (lastOnly ? "the last alone" : "combined by inverse variance") + "; guide: " + guideSize,
-            "variance of one sample, iteration by iteration: " + sigma};
-  if (probed)
-    notes_.push_back("unguided fallback: variance x seconds per sample " + formatNumber(float(unguidedCost)) +
-                     " path-traced against " + formatNumber(float(guidedCost)) + " guided (its preparation, " +
-                     formatNumber(float(prepareSeconds)) + " s, paid once from the time left): the last iteration " +
-                     (unguidedWins ? "path-traced" : "guided"));
-  if (stats) *stats = infoAt(true);
-  return estimate();
+  for (double v : r.variances) sigma += (sigma.empty() ? "" : ", ") + formatNumber(float(v));
+  std::vector<std::string> notes = {
+      std::to_string(r.iterations) + " iterations (the last " + std::to_string(r.lastSamples) + " spp), " +
+          (options_.combine == "last" ? "the last alone" : "combined by inverse variance") + "; guide: " + r.guideSize,
+      "variance of one sample, iteration by iteration: " + sigma};
+  if (r.probed)
+    notes.push_back("unguided fallback: variance x seconds per sample " + formatNumber(float(r.unguidedCost)) +
+                    " path-traced against " + formatNumber(float(r.guidedCost)) + " guided (its preparation, " +
+                    formatNumber(float(r.prepareSeconds)) + " s, paid once from the time left): the last iteration " +
+                    (r.unguidedWins ? "path-traced" : "guided"));
+  return notes;
 }
 
 // --- registration ------------------------------------------------------------------------------
@@ -497,7 +351,7 @@ std::vector<ParamSpec> guidedParams() {
 IntegratorEntry guidedEntry() {
   return IntegratorEntry(
       "guided", "path guiding: path tracing with directions from a learned incident-light distribution (SD-tree or photons)",
-      IntegratorFamily::Own, nullptr,
+      IntegratorFamily::Pixel, nullptr,
       guidedParams(),
       [](const ParamSet& p, const RenderOptions&) {
         GuidedOptions o;

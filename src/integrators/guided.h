@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "guiding/guide.h"
+#include "integrators/path.h"
 #include "render/integrator.h"
 
 namespace pl {
@@ -27,15 +28,23 @@ struct GuidedOptions {
 
 // Path guiding: a path tracer (next-event estimation and MIS, as integrators/path.cpp) whose
 // direction at each non-specular vertex comes from the BSDF or from a learned distribution of
-// incident radiance (guiding/guide.h). It renders in iterations of 1, 2, 4, 8, ... samples per
-// pixel; each samples with what the guide learned before it, so every iteration is an unbiased
-// image on its own, and the image combines them.
-class GuidedIntegrator final : public Integrator {
+// incident radiance (guiding/guide.h). A pixel integrator with a training hook: it renders in
+// iterations of 1, 2, 4, 8, ... samples per pixel, each sampling with what the guide learned
+// before it, so every iteration is an unbiased image on its own, and the pixel loop combines them.
+class GuidedIntegrator final : public PixelIntegrator, private TrainingHook {
  public:
-  explicit GuidedIntegrator(GuidedOptions options) : options_(std::move(options)) {}
-  ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;
+  explicit GuidedIntegrator(GuidedOptions options)
+      : options_(std::move(options)), pathTracer_(options_.maxDepth, /*sobol=*/false, /*lanes=*/false, /*spectral=*/false) {}
   const char* name() const override { return "guided"; }
-  std::vector<std::string> notes() const override { return notes_; }
+  std::vector<std::string> notes() const override;
+  TrainingHook* training() override { return this; }
+
+  // A guided path with the guide as trained so far, recording nothing (before a render has
+  // trained one: the path tracer's).
+  Spectrum Li(const Ray& ray, const Scene& scene, SampledWavelengths& lambda, Sampler& sampler) const override;
+  // This iteration's paths: guided (recording where the guide learns), or path-traced where the
+  // schedule chose the unguided fallback.
+  void LiPacket(CameraSample* samples, int n, const Scene& scene) const override;
 
   // One camera path; with `record`, what it found is recorded into the guide (as `thread`).
   // `pixel`: the pixel's value as far as it is known (0: not yet), for Russian roulette.
@@ -48,8 +57,29 @@ class GuidedIntegrator final : public Integrator {
   static std::vector<int> schedule(int spp);
 
  private:
+  Iteration beforeIteration(const Scene& scene, int index, const RenderOptions& options, int threads,
+                            const Budget& budget) override;
+  void afterIteration(const IterationReport& report) override;
+
   GuidedOptions options_;
-  std::vector<std::string> notes_;
+  // Its Li is called one sample at a time, so the lanes (a batch of rows) do not apply.
+  const PathIntegrator pathTracer_;
+  std::unique_ptr<Guide> guide_;
+  // What one render's schedule has measured and decided (guided.cpp, beforeIteration).
+  struct Schedule {
+    std::vector<int> fixed;  // with a sample count: the iterations' samples
+    double timeLimit = 0;
+    int done = 0;            // samples per pixel every pixel has
+    int iterations = 0, lastSamples = 0, guidedIterations = 0, guidedSamples = 0;
+    double secondsPerSample = 0;
+    bool probed = false, unguidedWins = false;
+    double guidedCost = 0, unguidedCost = 0;  // σ²·t of the last guided iteration and of the probe
+    double guidedRelative = 0, guidedSeconds = 0, prepareSeconds = 0;  // its σ², t_g and P
+    std::string guideSize;
+    std::vector<double> variances;  // each iteration's σ² of one sample, for the notes
+  } run_;
+  // The iteration under way: path-traced (the fallback), the fallback's probe, the last, recording.
+  bool unguided_ = false, probe_ = false, last_ = false, record_ = false;
 };
 
 }  // namespace pl

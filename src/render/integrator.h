@@ -1,7 +1,8 @@
 // The integrator interface: an integrator renders the whole image and owns its loop (as
 // pbrt-v4's Integrator::Render). Three shared loops hold the parts every algorithm repeats (keyed
 // random streams, camera samples, wavelengths, budget, checkpoints, the film):
-//   PixelIntegrator  camera-side, one radiance estimate Li per pixel sample (render/renderer.h);
+//   PixelIntegrator  camera-side, one radiance estimate Li per pixel sample (render/renderer.h),
+//                    with a training hook between iterations for integrators that learn;
 //   PassIntegrator   eye passes and photon passes alternating (integrators/progressive.h);
 //   light-side       light paths splatted onto the film (render/light_loop.h).
 // Each integrator registers itself, with its parameters, in its own file (integrators/registry.h).
@@ -42,7 +43,37 @@ class Integrator {
   virtual std::vector<NamedImage> extraImages() const { return {}; }
 };
 
-// Camera-side integrators: the pixel value is the mean of Li over the pixel's samples.
+// Integrators that learn as they render (path guiding) render in iterations, each some passes
+// over the image with what was learned before it, so that each is an unbiased image on its own;
+// the pixel loop combines them by inverse variance (render/iteration_film.h) and calls the
+// integrator's training hook between them (PixelIntegrator::training()).
+struct Iteration {
+  int samples = 0;        // passes (samples per pixel); 0 ends the render
+  bool last = false;      // nothing will be learned after it
+  bool replaces = false;  // its image takes the place of the iterations' before it
+};
+// What the pixel loop measured of an iteration that ended.
+struct IterationReport {
+  int samples = 0;               // the passes it asked for
+  int least = 0;                 // the samples every pixel got (fewer where the budget cut it short)
+  double trainingSeconds = 0;    // the hook's time before its passes
+  double seconds = 0;            // training and passes together
+  double elapsed = 0;            // the render's time when it ended
+  double variance = 0;           // σ² of one sample (channel mean), pooled over the image
+  double relativeVariance = 0;   // each pixel's σ² over its value² + 0.01, averaged (relMSE's weighting)
+};
+class TrainingHook {
+ public:
+  virtual ~TrainingHook() = default;
+  // Before iteration `index` (0, 1, ...): learn from what the passes before recorded, and say
+  // how the next iteration runs. `options` has the resolution resolved; polls the budget.
+  virtual Iteration beforeIteration(const Scene& scene, int index, const RenderOptions& options, int threads,
+                                    const Budget& budget) = 0;
+  virtual void afterIteration(const IterationReport& report) = 0;
+};
+
+// Camera-side integrators: the pixel value is the mean of Li over the pixel's samples (over
+// each iteration's, combined, where the integrator learns between iterations).
 class PixelIntegrator : public Integrator {
  public:
   // Work done once before the first sample (photon tracing). Deterministic for a seed. It polls
@@ -60,6 +91,8 @@ class PixelIntegrator : public Integrator {
     SampledWavelengths* lambda;
     Sampler* sampler;
     Spectrum L{0.0f};
+    int thread = 0;            // the render thread tracing it (< the render's thread count)
+    float pixelEstimate = 0;   // a learning integrator's pixel, channel mean, from the iterations before (0: none)
   };
   virtual void LiPacket(CameraSample* samples, int n, const Scene& scene) const {
     for (int k = 0; k < n; ++k) samples[k].L = Li(samples[k].ray, scene, *samples[k].lambda, *samples[k].sampler);
@@ -73,6 +106,9 @@ class PixelIntegrator : public Integrator {
   virtual int sobolSlots() const { return 0; }
   // Adds what the integrator knows to a checkpoint's info (photon counts, gather radius).
   virtual void addInfo(const Scene& scene, const RenderOptions& options, RenderInfo* info) const {}
+  // An integrator that learns between iterations returns its hook; nullptr: one image, the mean
+  // of every sample.
+  virtual TrainingHook* training() { return nullptr; }
   ImageRGB render(const Scene& scene, const RenderOptions& options, RenderInfo* info) override;  // renderer.cpp
 };
 

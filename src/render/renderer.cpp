@@ -5,6 +5,7 @@
 #include "core/budget.h"
 #include "core/parallel.h"
 #include "render/camera_path.h"
+#include "render/iteration_film.h"
 #include "render/session.h"
 #include "spectral/spectral.h"
 
@@ -18,22 +19,31 @@ void resolveResolution(const Camera& camera, RenderOptions& o) {
 }
 
 ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOptions options, RenderInfo* stats) {
-  RenderSession session(scene, options, 3 * sizeof(ExactSum) + 3 * sizeof(float) + 2 * sizeof(uint32_t), "image");
+  TrainingHook* training = integrator.training();
+  if (training && options.sliced())
+    throw Error(std::string(integrator.name()) + " learns between iterations: slices of its render would not add up");
+  RenderSession session(scene, options,
+                        training ? IterationFilm::kBytesPerPixel : 3 * sizeof(ExactSum) + 3 * sizeof(float) + 2 * sizeof(uint32_t),
+                        "image");
   const RenderOptions& o = session.options();
   const int W = session.width, H = session.height;
   const size_t pixels = session.pixels;
   const Budget& budget = session.budget;
   // Exact sums (core/exact_sum.h): float accumulation drifts over thousands of samples, and
   // double accumulation depends on the grouping, which would keep slices of a render
-  // (--sample-range) from merging into the bits of the whole.
-  std::vector<ExactSum> sum(pixels * 3);
+  // (--sample-range) from merging into the bits of the whole. A learning integrator's samples go
+  // to its iteration film instead.
+  std::vector<ExactSum> sum(training ? 0 : pixels * 3);
+  std::optional<IterationFilm> iterations;
+  if (training) iterations.emplace(W, H);
   // Samples per pixel. All equal, except after a pass the budget cut short: the pixels it
   // reached have one more sample, and each pixel's estimate is its own mean.
   std::vector<uint32_t> count(pixels, 0);
   std::vector<uint64_t> nonFinite(size_t(H), 0);
   std::vector<uint32_t> nanCount(o.nanAov ? pixels : 0, 0);  // per pixel, for --aov nan
   auto estimate = [&] {
-    ImageRGB image(W, H);
+    ImageRGB image = iterations && !o.nanAov ? iterations->image() : ImageRGB(W, H);
+    if (iterations && !o.nanAov) return image;
     for (size_t i = 0; i < pixels; ++i) {
       if (count[i] == 0) continue;  // the budget ended before this pixel's first sample: black
       if (o.nanAov) {
@@ -68,8 +78,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
   // width alone. The budget is polled per packet.
   const int rowsPerItem = std::max(1, std::min(integrator.packetSize() / W, H));
   const int items = (H + rowsPerItem - 1) / rowsPerItem;
-  auto pass = [&](int s) {
-    parallelFor(size_t(items), session.threads, [&](size_t item, int) {
+  auto samplePass = [&](int s) {
+    parallelFor(size_t(items), session.threads, [&](size_t item, int thread) {
       const int y0 = int(item) * rowsPerItem, rows = std::min(rowsPerItem, H - y0);
       const int itemPixels = W * rows;
       const int packet = std::max(1, std::min(integrator.packetSize(), itemPixels));
@@ -86,7 +96,8 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
           paths[k] = beginCameraPath(scene, o, x, int(y), uint64_t(s));
           Sampler& sampler = samplers[k].emplace(paths[k].rng, sobolSlots > 0, mix64(sobolKey ^ pixel), uint32_t(s), sobolSlots);
           jitterFromSampler(scene, x, int(y), W, H, sampler, &paths[k].ray);
-          samples[k] = {paths[k].ray, &paths[k].lambda, &sampler};
+          samples[k] = {paths[k].ray, &paths[k].lambda, &sampler, Spectrum(0.0f), thread,
+                        iterations ? iterations->pixelValue(pixel) : 0.0f};
         }
         integrator.LiPacket(samples.data(), n, scene);
         for (int k = 0; k < n; ++k) {
@@ -95,19 +106,57 @@ ImageRGB renderPixels(const Scene& scene, PixelIntegrator& integrator, RenderOpt
           Spectrum L = samples[k].L;
           if (o.spectral) L = spectralToRGB(L, paths[k].lambda.lambda);
           ++count[pixel];
+          if (iterations) iterations->count(pixel);
           if (!isFinite(L)) {  // discarded: counted as a zero sample, reported, never on the film
             ++nonFinite[y];
             if (o.nanAov) ++nanCount[pixel];
             continue;
           }
-          ExactSum* p = &sum[pixel * 3];
-          p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
+          if (iterations) {
+            iterations->add(pixel, L);
+          } else {
+            ExactSum* p = &sum[pixel * 3];
+            p[0].add(L.r), p[1].add(L.g), p[2].add(L.b);
+          }
         }
       }
     });
     return true;  // a pass the budget cut short counts: each pixel's estimate is its own mean
   };
+
+  // A learning integrator's passes come in iterations: when one has run its passes, it ends
+  // (it joins the image and its report goes to the hook), and the hook trains for the next
+  // before that one's first pass.
+  Iteration iteration;
+  int index = 0, passesLeft = 0;
+  double started = 0, trained = 0;
+  auto endIteration = [&] {
+    IterationReport r = iterations->end();
+    r.samples = iteration.samples;
+    r.trainingSeconds = trained - started;
+    r.elapsed = budget.elapsed();
+    r.seconds = r.elapsed - started;
+    training->afterIteration(r);
+  };
+  auto pass = [&](int s) {
+    if (!training) return samplePass(s);
+    if (passesLeft == 0) {
+      if (iterations->running()) {
+        endIteration();
+        if (iteration.last) return false;
+      }
+      started = budget.elapsed();
+      iteration = training->beforeIteration(scene, index++, o, session.threads, budget);
+      trained = budget.elapsed();
+      if (iteration.samples <= 0 || budget.expired()) return false;
+      passesLeft = iteration.samples;
+      iterations->begin(iteration.replaces);
+    }
+    --passesLeft;
+    return samplePass(s);
+  };
   session.run(session.units(unitTarget(o.spp, o.timeLimit)), pass, infoAt, estimate);
+  if (iterations && iterations->running()) endIteration();
   if (stats) {
     *stats = infoAt(true);
     if (o.sliced()) {

@@ -3,9 +3,10 @@
 // towards the render time), resolves the resolution and the thread count, checks that the film
 // fits in memory, and runs the units of the render or of its slice (--sample-range) with the
 // progress bar, the checkpoints and the stop on the budget or an interrupt. The loops that use it
-// keep only their algorithm: renderPixels (render/renderer.cpp), LightPathIntegrator
-// (render/light_loop.cpp), the progressive passes (integrators/progressive.h), the bidirectional
-// iterations (integrators/bidirectional.cpp) and guided path tracing's training schedule.
+// keep only their algorithm: renderPixels (render/renderer.cpp, with the training hook of
+// integrators that learn between iterations), LightPathIntegrator (render/light_loop.cpp), the
+// progressive passes (integrators/progressive.h) and the bidirectional iterations
+// (integrators/bidirectional.cpp).
 #pragma once
 #include <string>
 
