@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -12,6 +13,7 @@
 
 #include "bsdfs/lambertian.h"
 #include "core/budget.h"
+#include "core/interrupt.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
 #include "lights/directional_light.h"
@@ -322,6 +324,57 @@ TEST_CASE("contract: every integrator stops when its time budget ends - with a f
     size_t bad = 0;
     for (float v : image.data) bad += !std::isfinite(v);
     CHECK(bad == 0);
+  }
+}
+
+namespace {
+// Time is the work polled, as SteppingClock, and at reading `at` an interrupt arrives (as Ctrl-C
+// raises it): the readings after it are the polls the render makes before it returns.
+class InterruptingClock final : public Clock {
+ public:
+  explicit InterruptingClock(uint64_t at) : at_(at) {}
+  double seconds() override {
+    const uint64_t n = ticks_.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (n == at_) requestInterrupt();
+    return double(n) * 1e-3;
+  }
+  uint64_t readingsAfter() const { return ticks_.load() > at_ ? ticks_.load() - at_ : 0; }
+  bool reached() const { return ticks_.load() >= at_; }
+
+ private:
+  uint64_t at_;
+  std::atomic<uint64_t> ticks_{0};
+};
+}  // namespace
+
+TEST_CASE("contract: every integrator stops within a few polls of an interrupt - in preprocessing or rendering - with a finite image") {
+  // Work no test could wait for (2^20 samples, passes or iterations), a time budget that never
+  // ends, and an interrupt at the clock's 3rd reading (in preprocessing where there is any) or
+  // its 60th. One thread: the poll that reads the interrupt sees it, each work item still queued
+  // in that parallel loop (at most a row each, 16 here) polls once before any work and returns,
+  // and the loops around it return after a poll each (8 allowed). The latency is counted in
+  // polls, each at most a packet of pixels, a chunk of light paths or a slice of a build.
+  auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-box.gltf");
+  for (const IntegratorEntry* e : integrators()) {
+    for (uint64_t at : {3, 60}) {
+      INFO(e->name << ", interrupted at the clock's reading " << at);
+      clearInterrupt();
+      InterruptingClock clock(at);
+      RenderOptions o;
+      o.width = o.height = 16;
+      o.threads = 1;
+      o.timeLimit = 1e9;
+      o.clock = &clock;
+      RenderInfo info;
+      const ImageRGB image = renderEntry(*scene, *e, cheap(*e, 1 << 20), o, &info);
+      clearInterrupt();
+      REQUIRE(clock.reached());
+      CHECK(info.interrupted);
+      CHECK(clock.readingsAfter() <= uint64_t(o.height) + 8);
+      size_t bad = 0;
+      for (float v : image.data) bad += !std::isfinite(v);
+      CHECK(bad == 0);
+    }
   }
 }
 
