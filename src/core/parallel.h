@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/ray_counts.h"
+
 namespace pl {
 
 inline int resolveThreads(int requested) {
@@ -40,6 +42,7 @@ void parallelFor(size_t count, int threads, Fn&& fn) {
       if (!error) error = std::current_exception();
       next = count;
     }
+    rays::join();  // before the loop returns: its rays are in the totals whichever thread asks
   };
   if (threads == 1) {
     worker(0);

@@ -2,59 +2,17 @@
 
 #include <cstring>
 
+#include "core/ray_counts.h"
+
 #include <algorithm>
-#include <atomic>
 #include <limits>
-#include <mutex>
 #include <vector>
 
 namespace pl {
 
-namespace {
-// Rays per thread, each counter written by its own thread alone (a relaxed load and store: no
-// locked add per ray) and summed by raysTraced() over the live threads and the finished ones:
-// the pool's threads (core/parallel.h) never finish while the program runs.
-struct RayCounter;
-struct RayCounters {
-  std::mutex mutex;
-  std::vector<RayCounter*> live;
-  uint64_t finishedRays = 0, finishedShadow = 0;
-};
-RayCounters& counters() {
-  static RayCounters* c = new RayCounters;  // never destroyed: threads may end after static destruction
-  return *c;
-}
-struct RayCounter {
-  std::atomic<uint64_t> count{0}, shadow{0};  // all rays; shadow (occlusion) rays among them
-  RayCounter() {
-    std::lock_guard<std::mutex> lock(counters().mutex);
-    counters().live.push_back(this);
-  }
-  ~RayCounter() {
-    RayCounters& c = counters();
-    std::lock_guard<std::mutex> lock(c.mutex);
-    c.finishedRays += count.load(), c.finishedShadow += shadow.load();
-    c.live.erase(std::find(c.live.begin(), c.live.end(), this));
-  }
-  void add(uint64_t rays, uint64_t shadowRays) {
-    count.store(count.load(std::memory_order_relaxed) + rays, std::memory_order_relaxed);
-    if (shadowRays) shadow.store(shadow.load(std::memory_order_relaxed) + shadowRays, std::memory_order_relaxed);
-  }
-};
-thread_local RayCounter rayCounter;
-
-uint64_t sumCounters(bool shadowOnly) {
-  RayCounters& c = counters();
-  std::lock_guard<std::mutex> lock(c.mutex);
-  uint64_t sum = shadowOnly ? c.finishedShadow : c.finishedRays;
-  for (const RayCounter* r : c.live) sum += (shadowOnly ? r->shadow : r->count).load(std::memory_order_relaxed);
-  return sum;
-}
-}  // namespace
-
-uint64_t Scene::raysTraced() { return sumCounters(false); }
-uint64_t Scene::shadowRaysTraced() { return sumCounters(true); }
-void Scene::countRays(uint64_t closest, uint64_t shadow) { rayCounter.add(closest + shadow, shadow); }
+uint64_t Scene::raysTraced() { return rays::all(); }
+uint64_t Scene::shadowRaysTraced() { return rays::shadow(); }
+void Scene::countRays(uint64_t closest, uint64_t shadow) { rays::add(closest + shadow, shadow); }
 
 Scene::Scene() {
   device_ = rtcNewDevice(nullptr);
@@ -449,7 +407,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit* hit) const {
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(rtcScene_, &context, &rh);
-  rayCounter.add(1, 0);
+  rays::add(1, 0);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hitOf(rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
   return true;
@@ -512,7 +470,7 @@ void Scene::intersect(const Ray* rays, const bool* active, bool coherent, Surfac
     rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
   }
   rtcIntersect8(valid, rtcScene_, &context, &rh);
-  rayCounter.add(uint64_t(n), 0);
+  rays::add(uint64_t(n), 0);
   for (int k = 0; k < kPacket; ++k) {
     if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
     found[k] = true;
@@ -538,7 +496,7 @@ bool Scene::occluded(const Ray& ray) const {
   r.id = 0;
   r.flags = 0;
   rtcOccluded1(rtcScene_, &context, &r);
-  rayCounter.add(1, 1);
+  rays::add(1, 1);
   return r.tfar < 0.0f;  // Embree sets tfar = −inf when something was hit
 }
 

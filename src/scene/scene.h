@@ -248,8 +248,8 @@ class Scene {
   std::vector<uint32_t> geometryFirstTriangles() const;
   // Whether any mesh has vertex colours (COLOR_0).
   bool hasVertexColors() const;
-  // Rays (closest-hit and shadow) traced so far by this process, for benchmarks. Counted per
-  // thread without atomics; a thread adds its count to the total when it exits.
+  // Rays (closest-hit and shadow) traced so far by this process, for benchmarks: complete after
+  // a parallel loop returns (core/ray_counts.h).
   static uint64_t raysTraced();
   static uint64_t shadowRaysTraced();  // the occluded() queries among them
   // Adds rays that code with its own Embree queries traced (integrators/path_lanes.cpp).
