@@ -230,6 +230,30 @@ def geometric_mean(values):
     return math.exp(sum(math.log(v) for v in values) / len(values)) if values else float("nan")
 
 
+def readable_number(v):
+    """A value as a reader wants it in a report: 4 significant digits for a real number
+    (0.6666666666666666 reads 0.6667), integers and text as they are."""
+    if isinstance(v, bool) or not isinstance(v, float):
+        return str(v)
+    return f"{v:.4g}"
+
+
+def readable_log_axis(axis):
+    """Labels on a log axis wherever the data's range has room for them: matplotlib labels only
+    the powers of ten, and a range within one or two decades (an RMSE falling from 0.03 to 0.008)
+    then shows one labelled tick or none. Below three decades the ticks go to 1, 2 and 5 times
+    the powers of ten (within one decade to 1, 1.5, 2, 3, 5 and 7 times), each labelled in plain
+    numbers; wider ranges keep the powers of ten."""
+    from matplotlib import ticker
+    lo, hi = sorted(axis.get_view_interval())
+    if not (lo > 0 and hi > lo) or math.log10(hi / lo) >= 3:
+        return
+    subs = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0) if math.log10(hi / lo) < 1 else (1.0, 2.0, 5.0)
+    axis.set_major_locator(ticker.LogLocator(base=10, subs=subs))
+    axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
+    axis.set_minor_formatter(ticker.NullFormatter())
+
+
 def save_figure(fig, out_prefix):
     """PNG and PDF of a matplotlib figure, each written to a temporary file and renamed into
     place (never half-written); closes the figure. Returns the two paths."""

@@ -93,10 +93,13 @@ def plot(results_dir, out_prefix):
                 ax.set_ylabel("relMSE" if metric == "relmse" else "RMSE")
             ax.set_xlabel(xname)
             ax.grid(True, which="both", alpha=0.3)
+            er.readable_log_axis(ax.xaxis)
+            if metric != "mean_ratio":
+                er.readable_log_axis(ax.yaxis)
             handles, _ = ax.get_legend_handles_labels()
             if metric != "mean_ratio":
                 handles += guide_legend_handles(metric)
-            ax.legend(handles=handles, fontsize=7, loc="best")
+            ax.legend(handles=handles, fontsize=9, loc="best")
     try:
         config_name = er.read_config(results_dir).get("name") or os.path.basename(os.path.normpath(results_dir))
     except er.ResultsError:
@@ -106,7 +109,7 @@ def plot(results_dir, out_prefix):
              "Left: render time in seconds (image writes and error computation excluded). Right: samples per pixel "
              "(direct, whitted, path, photon) or photon passes (ppm, sppm, pppm). Lines: geometric mean over seeds; "
              "bands: min–max over seeds. relMSE = mean (x − r)²/(r² + 0.01).",
-             ha="center", va="top", fontsize=8, wrap=True)
+             ha="center", va="top", fontsize=9, wrap=True)
     return er.save_figure(fig, out_prefix)
 
 

@@ -129,7 +129,7 @@ def write_html(results_dir, config, table, summary=None, reference=None):
         if "reference_file" in meta or "file" in settings:
             lines.append(f"<p>An image given by the config: <code>{e(str(settings.get('file', meta.get('reference_file', ''))))}</code>.</p>")
         else:
-            keys = ", ".join(f"{k} = {v}" for k, v in settings.items() if k not in ("integrator", "seed"))
+            keys = ", ".join(f"{k} = {er.readable_number(v)}" for k, v in settings.items() if k not in ("integrator", "seed"))
             work = (f"{meta['passes']} passes of {meta.get('photons_per_pass', '?')} photon paths" if "passes" in meta
                     else f"{meta.get('spp', '?')} spp")
             seconds = float(meta["seconds"]) if "seconds" in meta else None

@@ -290,3 +290,52 @@ TEST_CASE("cli: --units - info says which units a file's light values were read 
   const std::string never = dir + "/never-units.exr";
   expectCleanFailure("render " + scene + " -o " + never + " --units lumens", never, "--units");
 }
+
+TEST_CASE("cli: ordinary mistakes fail before rendering, in one line - a folder or a foreign file as the scene, an output it cannot write, a typing slip") {
+  GltfFixture f;
+  const std::string scene = f.write("cli-mistakes.gltf"), dir = GltfFixture::dir(), out = dir + "/mistake.png";
+  // The scene: a folder, a missing file, files of other formats (named, with what is read).
+  expectCleanFailure("render " + dir + " -o " + out, out, "is a folder; photonlab renders a glTF 2.0 file (.gltf or .glb)");
+  expectCleanFailure("render " + dir + "/absent.gltf -o " + out, out, "does not exist");
+  for (const char* name : {"model.obj", "image.exr", "notes.gltf"}) {
+    std::ofstream(dir + "/" + name) << (std::string(name) == "image.exr" ? "v/1\x01 binary" : "# v 0 0 0\nf 1 2 3\n");
+    expectCleanFailure("render " + dir + "/" + name + " -o " + out, out, "not a glTF 2.0 file: photonlab reads .gltf (JSON) and .glb");
+  }
+  CHECK_THAT(run("render " + dir + "/model.obj -o " + out).err, Contains("convert the .obj file to glTF"));
+  CHECK_THAT(run("info " + dir + "/notes.gltf").err, Contains("not a glTF 2.0 file"));
+  // The output: a folder, or a folder nothing can be written in (/proc, even for root), before
+  // the scene is loaded or a pixel rendered.
+  expectCleanFailure("render " + scene + " -o " + dir, dir + "/never.png", "is a folder; give a file name ending in .exr or .png");
+  Result proc = run("render " + scene + " -o /proc/photonlab-never.png --spp 1 --width 8");
+  CHECK(proc.code == 1);
+  CHECK_THAT(proc.err, Contains("cannot write in folder /proc"));
+  CHECK(proc.err.find("rendering") == std::string::npos);
+  // Typing slips get the nearest name.
+  expectCleanFailure("render " + scene + " --intergrator path -o " + out, out, "unknown option --intergrator (did you mean --integrator?)");
+  expectCleanFailure("rendr " + scene + " -o " + out, out, "unknown command 'rendr' (did you mean render?)");
+  expectCleanFailure("render " + scene + " --spp 1 --colour red -o " + out, out, "unknown option --colour");
+  CHECK(run("render " + scene + " --spp 1 --colour red -o " + out).err.find("did you mean") == std::string::npos);  // nothing near
+  // --exposure and --tonemap with an EXR alone: said, not silently ignored.
+  Result exr = run("render " + scene + " --spp 1 --width 8 -q --exposure 2 -o " + dir + "/mistake.exr");
+  CHECK(exr.code == 0);
+  CHECK_THAT(exr.err, Contains("warning: --exposure applies to PNG output only"));
+}
+
+TEST_CASE("cli: camera flags - the view is recorded in the metadata, and mistakes are one line") {
+  GltfFixture f;
+  const std::string scene = f.write("cli-view.gltf"), dir = GltfFixture::dir(), out = dir + "/view.exr";
+  Result r = run("render " + scene + " --spp 1 --width 8 -q --look-from 0,2,5 --look-at 0,0,0 --fov 30 -o " + out);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(run("info " + out).out, Contains("\"view\": \"--look-from 0,2,5 --look-at 0,0,0 --up 0,1,0 --fov 30\""));
+  REQUIRE(run("render " + scene + " --spp 1 --width 8 -q --orbit 90,10 -o " + out).code == 0);
+  CHECK_THAT(run("info " + out).out, Contains("\"view\": \"--orbit 90,10\""));
+  expectCleanFailure("render " + scene + " --look-from 0,2,5 -o " + out, out, "--look-from: needs --look-at");
+  expectCleanFailure("render " + scene + " --look-from 0,2 --look-at 0,0,0 -o " + out, out, "--look-from: expected X,Y,Z");
+  expectCleanFailure("render " + scene + " --look-from 1,1,1 --look-at 1,1,1 -o " + out, out, "--look-at: must differ from --look-from");
+  expectCleanFailure("render " + scene + " --look-from 0,5,0 --look-at 0,0,0 -o " + out, out, "--up: must not point along the view direction");
+  expectCleanFailure("render " + scene + " --orbit 0,90 -o " + out, out, "--orbit: the elevation must be strictly between -90 and 90");
+  expectCleanFailure("render " + scene + " --orbit 0,10 --camera 0 -o " + out, out, "--camera: not with --orbit");
+  expectCleanFailure("render " + scene + " --fov 180 -o " + out, out, "--fov: the vertical field of view must be between 0 and 180");
+  expectCleanFailure("render " + scene + " --up 0,0,1 -o " + out, out, "--up: only with --look-from");
+}

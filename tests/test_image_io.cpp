@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "cli_helpers.h"
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -10,6 +12,8 @@
 #include "io/image_io.h"
 
 using namespace pl;
+using namespace pl::test;
+using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 TEST_CASE("EXR round trip keeps float values and metadata  PNG is sRGB-encoded") {
@@ -110,3 +114,44 @@ TEST_CASE("image metadata: every key a render writes is documented (photonlab re
     }
   }
 }
+
+TEST_CASE("cli: automatic exposure puts the lit pixels' log-average luminance at middle grey - tonemap develops an EXR again") {
+  const std::string dir = GltfFixture::dir();
+  auto refused = [&](const std::string& args, const std::string& output, const std::string& mentions) {
+    Result r = run(args);
+    INFO(args << "\n" << r.err);
+    CHECK(r.code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_THAT(r.err, Contains(mentions));
+    CHECK_FALSE(fs::exists(output));
+  };
+  // An image of known luminance: half the pixels 0.5 (grey), half black. The black ones are not
+  // metered; the grey ones go to 0.18, EV = log2(0.36), shown as sRGB(0.18) = 118/255.
+  ImageRGB grey(8, 4);
+  for (size_t i = 0; i < grey.data.size(); ++i) grey.data[i] = (i / 3) % 2 ? 0.5f : 0.0f;
+  CHECK(meteredExposure(grey.data.data(), 32) == Approx(std::log2(0.36)).epsilon(1e-12));
+  writeImage(dir + "/known.exr", grey, {{"integrator", "path"}});
+  Result r = run("tonemap " + dir + "/known.exr -o " + dir + "/known.png");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const ImageRGB png = readImage(dir + "/known.png");  // decoded: 118/255
+  CHECK(png.data[3] == Approx(std::round(255 * srgbTransfer(0.18f)) / 255).margin(1e-6));
+  CHECK(png.data[0] == 0.0f);
+  auto meta = readImageMetadata(dir + "/known.png");
+  CHECK(std::stod(meta["exposure"]) == Approx(std::log2(0.36)).epsilon(1e-6));
+  CHECK_THAT(meta["exposure_rule"], Contains("log-average"));
+  CHECK(meta["integrator"] == "path");  // the EXR's metadata kept
+  // Two values a and b, equally many: the log-average is √(ab).
+  ImageRGB two(2, 1);
+  two.data = {0.02f, 0.02f, 0.02f, 2.0f, 2.0f, 2.0f};
+  CHECK(meteredExposure(two.data.data(), 2) == Approx(std::log2(0.18 / std::sqrt(0.04))).epsilon(1e-6));
+  ImageRGB black(2, 2);
+  CHECK(meteredExposure(black.data.data(), 4) == 0.0);  // nothing lit: unchanged
+  // A fixed exposure and curve; the mistakes.
+  REQUIRE(run("tonemap " + dir + "/known.exr -o " + dir + "/fixed.png --exposure -1 --tonemap aces").code == 0);
+  CHECK(readImageMetadata(dir + "/fixed.png")["exposure"] == "-1");
+  refused("tonemap " + dir + "/known.exr -o " + dir + "/bad.png --exposure bright", dir + "/bad.png", "--exposure: must be auto or a number");
+  refused("tonemap " + dir + "/known.png -o " + dir + "/bad.png", dir + "/bad.png", "tonemap develops a linear image (.exr)");
+  refused("tonemap " + dir + "/known.exr -o " + dir + "/bad.exr", dir + "/bad.exr", "tonemap writes a .png");
+}
+

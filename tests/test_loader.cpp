@@ -180,7 +180,7 @@ TEST_CASE("loader: extras.photonlab power and warn_exponent on lights") {
 }
 
 TEST_CASE("loader errors: missing file - malformed JSON") {
-  CHECK_THAT(loadError(GltfFixture::dir() + "/does-not-exist.gltf"), Contains("cannot open"));
+  CHECK_THAT(loadError(GltfFixture::dir() + "/does-not-exist.gltf"), Contains("file: does not exist"));
   CHECK_THAT(loadError(GltfFixture::writeText("bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [")), Contains("json"));
   CHECK_THAT(loadError(GltfFixture::writeText("truncated.glb", "glTF\x02\x00\x00\x00")), Contains("glb"));
 }
@@ -1497,4 +1497,90 @@ TEST_CASE("glTF factory tables: each row is the first to apply to its own case -
   CHECK(firstLightRow("area", -1) == "none");  // the loader's one-line error names the field
   names.clear();
   for (const LightFactory& f : lightFactories()) CHECK(names.insert(f.name).second);
+}
+
+TEST_CASE("loader: views from the command line - look-at projects known points as the pinhole does, orbit frames the bounds whole, fov alone replaces the file camera's") {
+  GltfFixture g;
+  const std::string path = g.write("views.gltf");
+  auto rasterOf = [](const Scene& scene, const Vec3& p, int W, int H, Vec2* r) {
+    CameraSample s;
+    const bool seen = scene.camera().sampleWi(p, W, H, &s);
+    *r = s.raster;
+    return seen;
+  };
+  Vec2 r;
+  // From 5 m on +Z, a 90° field: tan 45° = 1, so (x, y, 0) lands at ((x/5 + 1)/2·W, (1 − y/5)/2·H).
+  GltfLoadOptions o;
+  o.view.kind = CameraView::Kind::LookAt;
+  o.view.from = Vec3(0, 0, 5);
+  o.view.fov = 90;
+  auto lookAt = loadGltf(path, nullptr, o);
+  REQUIRE(rasterOf(*lookAt, Vec3(2.5f, 0, 0), 100, 100, &r));
+  CHECK(r.x == Approx(75).margin(1e-3));
+  CHECK(r.y == Approx(50).margin(1e-3));
+  REQUIRE(rasterOf(*lookAt, Vec3(0, -2.5f, 0), 100, 100, &r));
+  CHECK(r.x == Approx(50).margin(1e-3));
+  CHECK(r.y == Approx(75).margin(1e-3));
+  CHECK(lookAt->cameraSource == "--look-from/--look-at");
+  // --up +X: the image's up is +X, its right −Y.
+  o.view.up = Vec3(1, 0, 0);
+  auto turned = loadGltf(path, nullptr, o);
+  REQUIRE(rasterOf(*turned, Vec3(2.5f, 0, 0), 100, 100, &r));
+  CHECK(r.x == Approx(50).margin(1e-3));
+  CHECK(r.y == Approx(25).margin(1e-3));
+  // --orbit 90,0: on +X of the bounds' centre, looking along −X; every corner of the bounds in
+  // the image, at any aspect (the framing fits the bounding sphere).
+  for (float aspect : {1.0f, 2.0f, 0.5f}) {
+    INFO("aspect " << aspect);
+    GltfLoadOptions orbit;
+    orbit.view.kind = CameraView::Kind::Orbit;
+    orbit.view.azimuth = 90, orbit.view.elevation = 0;
+    orbit.aspect = aspect;
+    auto scene = loadGltf(path, nullptr, orbit);
+    const Camera& c = scene->camera();
+    CHECK(c.forward.x == Approx(-1).margin(1e-6));
+    CHECK(c.position.x > scene->bounds().center().x);
+    const int H = 100, W = int(std::lround(100 * aspect));
+    const Bounds& b = scene->bounds();
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner(k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z);
+      CHECK(rasterOf(*scene, corner, W, H, &r));
+    }
+  }
+  // --fov alone: the file's camera, narrower; without a view, the file's own 0.8 rad.
+  GltfLoadOptions narrow;
+  narrow.view.fov = 30;
+  auto file = loadGltf(path), narrowed = loadGltf(path, nullptr, narrow);
+  CHECK(file->camera().yfov == Approx(0.8f));
+  CHECK(narrowed->camera().yfov == Approx(glm::radians(30.0f)));
+  CHECK(narrowed->camera().position == file->camera().position);
+}
+
+TEST_CASE("loader: the default sky is radiance 1 in the file's units - as bright as an emissive factor of 1 - and KHR_materials_unlit emits its base colour") {
+  // A photometric file (the glTF default) with a glowing floor and no punctual light: the sky is
+  // 1 nit, 1/683 W/(m²·sr), exactly the floor's emission (emissive factor 1, in nits).
+  GltfFixture glowing;
+  glowing.doc["scenes"][0]["nodes"] = {0, 1};
+  glowing.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+  glowing.doc["asset"].erase("extras");
+  auto scene = loadGltf(glowing.write("nit-sky.gltf"));
+  REQUIRE(scene->environment() != nullptr);
+  CHECK(scene->environment()->integral().g == Approx(4 * kPi / kLumensPerWatt).epsilon(1e-5));
+  CHECK(scene->materials()[0].emission.g == Approx(1.0f / kLumensPerWatt));
+  CHECK_THAT(scene->units, Contains("the default sky, where the file has no light, is radiance 1 in these units"));
+  CHECK_THAT(scene->environmentSource, Contains("default environment (1 nit)"));
+  // Unlit: the base colour (0.25, 0.5, 1) emitted, nothing reflected, no "not implemented";
+  // required by the file, it loads.
+  GltfFixture unlit;
+  unlit.doc["materials"][0] = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.25, 0.5, 1.0, 1.0}}}},
+                               {"extensions", {{"KHR_materials_unlit", json::object()}}}};
+  unlit.doc["extensionsUsed"].push_back("KHR_materials_unlit");
+  unlit.doc["extensionsRequired"] = {"KHR_materials_unlit"};
+  std::vector<std::string> warnings;
+  auto u = loadGltf(unlit.write("unlit.gltf"), &warnings);
+  const Material& m = u->materials()[0];
+  CHECK(m.emission == Spectrum(0.25f, 0.5f, 1.0f));
+  const Vec3 up(0, 0, 1), out = glm::normalize(Vec3(0.3f, 0.2f, 1));
+  CHECK(isBlack(m.bsdf->eval(up, out, BSDFContext())));
+  for (const auto& w : warnings) CHECK(w.find("not implemented") == std::string::npos);
 }

@@ -208,6 +208,30 @@ def test_convergence_plot_guides_through_each_last_point_and_a_legend_in_every_p
     assert {ax.get_xlabel() for ax in axes} == {"render time (s)", "samples per pixel, or photon passes"}
 
 
+def test_log_axes_have_several_labelled_ticks_and_report_numbers_are_rounded():
+    # An RMSE falling from 0.03 to 0.008 spans 0.6 decades: matplotlib's default would label
+    # 0.01 alone; the readable axis labels 1, 2 and 5 times the powers of ten inside it.
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots()
+    ax.plot([1, 2, 4, 8], [0.03, 0.02, 0.012, 0.008])
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    er.readable_log_axis(ax.yaxis)
+    fig.canvas.draw()
+    lo, hi = sorted(ax.get_ylim())
+    labelled = [t.get_text() for t, v in zip(ax.get_yticklabels(), ax.get_yticks()) if lo <= v <= hi and t.get_text()]
+    assert len(labelled) >= 3, labelled
+    assert "0.01" in labelled and "0.02" in labelled
+    # Wide ranges keep the powers of ten.
+    ax.set_ylim(1e-6, 1)
+    er.readable_log_axis(ax.yaxis)
+    plt.close(fig)
+    assert er.readable_number(2 / 3) == "0.6667"
+    assert er.readable_number(64) == "64" and er.readable_number("sppm") == "sppm"
+
+
 def test_signed_difference_and_display_transforms():
     ref = np.full((2, 2, 3), 0.4)
     img = ref.copy()

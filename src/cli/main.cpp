@@ -1,5 +1,6 @@
 // photonlab command line: render, info, compare, bench. Every user error ends as one line on
 // stderr ("photonlab: FILE: ELEMENT: what") and exit code 1; no output file is left behind.
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #if defined(__GLIBC__)
@@ -61,17 +63,94 @@ std::unique_ptr<Scene> loadScene(const std::string& path, GltfLoadOptions option
   return scene;
 }
 
+// Before anything renders: a render's minutes are not lost to an output it cannot write.
 void checkOutputPath(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(path + ": -o: is a folder; give a file name ending in .exr or .png");
   std::string ext = fs::path(path).extension().string();
   if (ext != ".exr" && ext != ".png") throw Error(path + ": -o: output must end in .exr or .png");
   fs::path dir = fs::path(path).parent_path();
-  if (!dir.empty() && !fs::is_directory(dir)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
+  if (!dir.empty() && !fs::is_directory(dir, ec)) throw Error(path + ": -o: folder " + dir.string() + " does not exist");
+  // Whether a file can be made there, tried (permission bits do not say it for root, nor for a
+  // read-only or virtual file system): the image is written to a temporary file beside it and
+  // renamed into place (io/image_io.cpp).
+  const fs::path probe = (dir.empty() ? fs::path(".") : dir) / (".photonlab-write-test-" + std::to_string(getpid()));
+  const int fd = open(probe.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0600);
+  if (fd < 0)
+    throw Error(path + ": -o: cannot write in folder " + (dir.empty() ? std::string(".") : dir.string()) + " (" +
+                std::strerror(errno) + ")");
+  close(fd);
+  unlink(probe.c_str());
+}
+
+// "Did you mean": the known word nearest `word` in edits (Levenshtein), if it is near enough
+// to be a typing slip (at most a third of its letters), else "".
+std::string nearest(const std::string& word, const std::vector<std::string>& known) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  size_t bestDistance = std::max<size_t>(1, word.size() / 3) + 1;
+  for (const std::string& k : known) {
+    const size_t d = distance(word, k);
+    if (d < bestDistance) best = k, bestDistance = d;
+  }
+  return best;
+}
+
+// --exposure EV|auto.
+Display parseExposure(const std::string& text) {
+  Display d;
+  if (text == "auto") {
+    d.autoExposure = true;
+    return d;
+  }
+  char* end = nullptr;
+  d.exposure = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(d.exposure) || std::abs(d.exposure) > 64)
+    throw Error("--exposure: must be auto or a number of EV from -64 to 64, got '" + text + "'");
+  return d;
+}
+
+// Parses "X,Y,Z" (n numbers separated by commas) for `flag`.
+std::vector<float> parseNumbers(const std::string& flag, const std::string& text, size_t n, const char* shape) {
+  std::vector<float> v;
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    char* end = nullptr;
+    const double x = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(x)) v.clear(), start = std::string::npos;
+    else v.push_back(float(x));
+    if (comma == std::string::npos || start == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (v.size() != n) throw Error(flag + ": expected " + shape + " (" + std::to_string(n) + " numbers separated by commas), got '" + text + "'");
+  return v;
 }
 
 // Interrupted (SIGINT/SIGTERM): the estimate reached so far goes to OUT.partial.exr (never over
 // OUT itself, which a script may take for a finished result), marked partial="1"; exit 130.
+// Before any pixel has an estimate (in photon tracing, say) the image would be all black, a
+// picture of nothing: then nothing is written, and the message says so.
 int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image, std::map<std::string, std::string> meta,
                  double seconds, const Display& display) {
+  if (std::none_of(image.data.begin(), image.data.end(), [](float v) { return v != 0.0f && std::isfinite(v); })) {
+    std::fprintf(stderr, "photonlab: interrupted after %.2f s, before any pixel had an estimate: no image written\n", seconds);
+    return 130;
+  }
   meta["partial"] = "1";
   for (auto& o : outputs) {
     fs::path p(o);
@@ -82,19 +161,44 @@ int writePartial(const std::vector<std::string>& outputs, const ImageRGB& image,
   return 130;
 }
 
+// photonlab tonemap IN.exr -o OUT.png: the EXR's radiance through another exposure or curve,
+// with the EXR's metadata (what was rendered, how) beside the PNG's own display settings.
+int cmdTonemap(const std::string& input, const std::string& output, const std::string& exposure, const std::string& curve) {
+  if (fs::path(output).extension() != ".png") throw Error(output + ": -o: tonemap writes a .png");
+  checkOutputPath(output);
+  if (fs::path(input).extension() != ".exr")
+    throw Error(input + ": tonemap develops a linear image (.exr); a PNG's values are display values already");
+  Display display = parseExposure(exposure);
+  try {
+    display.curve = parseToneCurve(curve);
+  } catch (const Error& e) {
+    throw Error(std::string("--tonemap: ") + e.what());
+  }
+  const ImageRGB image = readImage(input);
+  std::map<std::string, std::string> meta = readImageMetadata(input);
+  for (const char* key : {"exposure", "exposure_rule", "tonemap"}) meta.erase(key);
+  writeImage(output, image, meta, display);
+  std::fprintf(stderr, "tonemap: %s -> %s (%s EV%s, %s)\n", input.c_str(), output.c_str(),
+               formatNumber(display.autoExposure ? meteredExposure(image.data.data(), image.data.size() / 3) : display.exposure).c_str(),
+               display.autoExposure ? ", metered" : "", toneCurveName(display.curve));
+  return 0;
+}
+
 // Any integrator, through renderRun() and runMetadata(), as `photonlab run` does. With
 // `checkpoints` (integrators counted in passes), OUT.pass-NNNN.ext after passes 1, 2, 4, ... and
 // the last.
 int cmdRender(const std::string& scenePath, const std::vector<std::string>& outputs, RunSettings s, bool checkpoints,
-              bool quiet, const Display& display) {
+              bool quiet, const Display& display, const std::string& notice) {
   for (auto& o : outputs) checkOutputPath(o);
   GltfLoadOptions load;
   load.camera = s.image.camera;
+  load.view = s.image.view;
   load.environment = s.image.environment;
   load.readImage = readEnvironmentMap;
   load.units = s.image.units;
   if (s.image.width > 0 && s.image.height > 0) load.aspect = float(s.image.width) / float(s.image.height);
   auto scene = loadScene(scenePath, load);
+  if (!notice.empty()) std::fprintf(stderr, "warning: %s\n", notice.c_str());
   // From here on an interrupt stops the render at its next pixel, chunk of photons or slice of
   // the tree build, and the image so far is written (before, it ended the process at once).
   setInterruptCooperative(true);
@@ -144,12 +248,16 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
                    outputs.front().c_str());
     return 0;
   }
+  // The images beside the radiance (bdpt's per technique) are shown at the radiance's exposure,
+  // so that they compare.
+  Display beside = display;
+  if (display.autoExposure) beside.autoExposure = false, beside.exposure = meteredExposure(image.data.data(), image.data.size() / 3);
   for (auto& o : outputs) {
     writeImage(o, image, meta, display);
     fs::path p(o);
     for (const NamedImage& e : extras)  // OUT.s1t2.exr beside OUT.exr
       writeImage((p.parent_path() / (p.stem().string() + "." + e.name + p.extension().string())).string(), e.image, meta,
-                 display);
+                 beside);
   }
   if (nonFinite) std::fprintf(stderr, "warning: %llu non-finite samples discarded\n", (unsigned long long)nonFinite);
   if (quiet) return 0;
@@ -428,6 +536,17 @@ int main(int argc, char** argv) {
                      "Which of the file's cameras renders, as photonlab info numbers them (default the first; a file "
                      "without one: an automatic three-quarter view)")
       ->check(CLI::NonNegativeNumber);
+  std::string lookFrom, lookAt, upText, orbitText;
+  float fov = 0;
+  render->add_option("--look-from", lookFrom, "X,Y,Z: the camera's position, looking at --look-at (instead of the file's camera)");
+  render->add_option("--look-at", lookAt, "X,Y,Z: the point the --look-from camera looks at");
+  render->add_option("--up", upText, "X,Y,Z: the image's up direction for --look-from (default 0,1,0)");
+  render->add_option("--orbit", orbitText,
+                     "AZ,EL: degrees; the scene's bounds framed whole from azimuth AZ (from +Z towards +X) and "
+                     "elevation EL (the automatic view is 45,30), instead of the file's camera");
+  auto* fovOpt = render->add_option("--fov", fov,
+                                    "Vertical field of view in degrees (default: the camera's own; 40 for the automatic "
+                                    "view, --orbit and --look-from)");
   std::string envText;
   float envRotate = 0.0f, envScale = 1.0f;
   render->add_option("--env", envText,
@@ -477,9 +596,12 @@ int main(int argc, char** argv) {
                      "photons | radius [" + integratorsTaking("aov") + "]");
   Display display;
   std::string toneCurve = "clamp";
-  render->add_option("--exposure", display.exposure, "PNG only: exposure in EV (linear values times 2^EV); EXR stays linear")
-      ->capture_default_str();
-  render->add_option("--tonemap", toneCurve, "PNG only: clamp | aces (a filmic curve that rolls highlights off)")
+  std::string exposureText = "auto";
+  auto* exposureOpt = render->add_option("--exposure", exposureText,
+                                         "PNG only: exposure in EV (linear values times 2^EV), or auto: the lit pixels' "
+                                         "log-average luminance to middle grey 0.18; EXR stays linear")
+                          ->capture_default_str();
+  auto* tonemapOpt = render->add_option("--tonemap", toneCurve, "PNG only: clamp | aces (a filmic curve that rolls highlights off)")
       ->capture_default_str();
   std::string sampleRange, passRange;
   render->add_option("--sample-range", sampleRange,
@@ -505,6 +627,14 @@ int main(int argc, char** argv) {
   std::string imagePath, referencePath;
   compare->add_option("image", imagePath)->required();
   compare->add_option("reference", referencePath)->required();
+
+  auto* tonemap = app.add_subcommand("tonemap", "Develop a linear image (.exr) into a PNG again: exposure and tone curve, "
+                                                "its metadata kept");
+  std::string tonemapInput, tonemapOutput, tonemapExposure = "auto", tonemapCurve = "clamp";
+  tonemap->add_option("image", tonemapInput, "A linear image, as photonlab writes it (.exr)")->required();
+  tonemap->add_option("-o,--output", tonemapOutput, "The PNG")->required();
+  tonemap->add_option("--exposure", tonemapExposure, "Exposure in EV, or auto (as render's --exposure)")->capture_default_str();
+  tonemap->add_option("--tonemap", tonemapCurve, "clamp | aces (as render's --tonemap)")->capture_default_str();
 
   auto* merge = app.add_subcommand("merge", "Add render slices (--sample-range, --pass-range) up into one image, bit for bit "
                                           "the single-process render of their union");
@@ -563,6 +693,10 @@ int main(int argc, char** argv) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->footer(helpFooter(sub->get_name()));
   app.footer(helpFooter(""));
 
+  // Words the parser does not know come back to us (allow_extras) so that a typing slip gets a
+  // suggestion: "unknown option --intergrator (did you mean --integrator?)".
+  app.allow_extras();
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) sub->allow_extras();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version
@@ -570,6 +704,31 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "photonlab: %s\n", e.what());
     return 1;
+  }
+  {
+    CLI::App* used = &app;
+    for (CLI::App* sub : app.get_subcommands()) used = sub;
+    const std::vector<std::string> extras = used->remaining();
+    if (!extras.empty()) {
+      const std::string& word = extras.front();
+      const std::string where = used == &app ? "photonlab" : "photonlab " + used->get_name();
+      std::vector<std::string> known;
+      std::string what;
+      if (word.size() > 1 && word[0] == '-') {
+        what = "unknown option " + word;
+        for (const CLI::Option* opt : used->get_options())
+          for (const std::string& name : opt->get_lnames()) known.push_back("--" + name);
+      } else {
+        what = used == &app ? "unknown command '" + word + "'" : "unexpected argument '" + word + "'";
+        if (used == &app)
+          for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) known.push_back(sub->get_name());
+      }
+      const std::string guess = nearest(word.substr(0, word.find('=')), known);
+      std::fprintf(stderr, "%s: %s%s (%s --help lists %s)\n", where.c_str(), what.c_str(),
+                   guess.empty() ? "" : (" (did you mean " + guess + "?)").c_str(), where.c_str(),
+                   used == &app ? "the commands" : "the options");
+      return 1;
+    }
   }
 
   if (argc <= 1) {  // no subcommand: the usage
@@ -615,6 +774,34 @@ int main(int argc, char** argv) {
       } else if (*envRotateOpt || *envScaleOpt) {
         throw Error(std::string(*envRotateOpt ? "--env-rotate" : "--env-scale") + ": needs --env");
       }
+      CameraView view;
+      if (!lookFrom.empty() || !lookAt.empty()) {
+        if (lookFrom.empty() || lookAt.empty()) throw Error(lookFrom.empty() ? "--look-at: needs --look-from" : "--look-from: needs --look-at");
+        const std::vector<float> f = parseNumbers("--look-from", lookFrom, 3, "X,Y,Z"), a = parseNumbers("--look-at", lookAt, 3, "X,Y,Z");
+        view.kind = CameraView::Kind::LookAt;
+        view.from = Vec3(f[0], f[1], f[2]), view.at = Vec3(a[0], a[1], a[2]);
+        if (!upText.empty()) {
+          const std::vector<float> u = parseNumbers("--up", upText, 3, "X,Y,Z");
+          view.up = Vec3(u[0], u[1], u[2]);
+        }
+      } else if (!upText.empty()) {
+        throw Error("--up: only with --look-from and --look-at");
+      }
+      if (!orbitText.empty()) {
+        if (view.kind == CameraView::Kind::LookAt) throw Error("--orbit: not with --look-from (one view or the other)");
+        const std::vector<float> o = parseNumbers("--orbit", orbitText, 2, "AZ,EL");
+        view.kind = CameraView::Kind::Orbit;
+        view.azimuth = o[0], view.elevation = o[1];
+      }
+      if (fovOpt->count()) {
+        if (!(fov > 0)) throw Error("--fov: the vertical field of view must be between 0 and 180 degrees, got " + formatNumber(fov));
+        view.fov = fov;
+      }
+      if (view.kind != CameraView::Kind::File && options.camera >= 0)
+        throw Error(std::string("--camera: not with ") + (view.kind == CameraView::Kind::Orbit ? "--orbit" : "--look-from") +
+                    " (one view or the other)");
+      checkCameraView(view);
+      options.view = view;
       if (!findIntegrator(integratorName))
         throw Error("--integrator: unknown integrator '" + integratorName + "' (" + integratorList() + ")");
       RunSettings settings = RunSettings::of(integratorName);
@@ -674,17 +861,26 @@ int main(int argc, char** argv) {
       if (options.timeLimit > 0 && !budgetGiven && entry.budgetParam()) settings.params.unset(entry.budgetParam()->name);
       options.progress = !quiet;
       settings.image = options;
-      if (!std::isfinite(display.exposure) || std::abs(display.exposure) > 64)
-        throw Error("--exposure: must be a number of EV from -64 to 64, got " + formatNumber(display.exposure));
+      display = parseExposure(exposureText);
+      // A debug image (--aov) shows its values as they are unless an exposure is asked for.
+      if (!exposureOpt->count() && !aov.empty()) display.autoExposure = false;
       try {
         display.curve = parseToneCurve(toneCurve);
       } catch (const Error& e) {
         throw Error(std::string("--tonemap: ") + e.what());
       }
-      return cmdRender(scenePath, outputs, settings, checkpoints, quiet, display);
+      bool png = false;
+      for (const std::string& o : outputs) png = png || fs::path(o).extension() == ".png";
+      std::string notice;  // said once the scene has loaded (an error before it is the only line)
+      if (!png && (exposureOpt->count() || tonemapOpt->count()))
+        notice = std::string(exposureOpt->count() ? "--exposure" : "--tonemap") +
+                 " applies to PNG output only; the EXR stays linear (add -o NAME.png, or develop the EXR later with "
+                 "photonlab tonemap)";
+      return cmdRender(scenePath, outputs, settings, checkpoints, quiet, display, notice);
     }
     if (*info) return cmdInfo(infoScene, infoUnits);
     if (*compare) return cmdCompare(imagePath, referencePath);
+    if (*tonemap) return cmdTonemap(tonemapInput, tonemapOutput, tonemapExposure, tonemapCurve);
     if (*merge) return cmdMerge(mergeParts, mergeOutput, mergePartial);
     if (*bench && !benchLoad.empty()) return runLoadBench(benchLoad, benchRepeats, bvhLayout);
     if (*bench) return runBench(benchScene, benchGlassScene, benchThreads, benchSpp);

@@ -52,6 +52,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   // Every declared parameter (unset ones as 0: e.g. radius 0, k nearest instead).
   for (const ParamSpec& p : s.params.specs()) m[p.metaKey()] = s.params.format(p);
   if (s.image.camera >= 0) m["camera"] = std::to_string(s.image.camera);
+  if (s.image.view.given()) m["view"] = s.image.view.describe();
   if (s.image.environment.enabled) m["environment"] = s.image.environment.describe();
   if (!s.image.units.empty()) m["units"] = s.image.units;
   // Then what was done: the samples or passes reached (over the budget parameter, which only
@@ -81,6 +82,7 @@ const std::vector<MetadataKey>& metadataKeys() {
       {"width", "Image width in pixels."},
       {"height", "Image height in pixels."},
       {"camera", "`--camera`: which of the file's cameras rendered (absent: the first, or the automatic view)."},
+      {"view", "The view given instead of the file's camera, as the flags that make it (`--look-from`/`--look-at`/`--up`, `--orbit`, `--fov`)."},
       {"environment", "The sky, when there is one: its radiance or map, rotation and scale."},
       {"units", "`--units` (or the experiment's `units`) when given."},
       {"spp", "Samples every pixel received (camera-side and bidirectional integrators: iterations)."},
@@ -96,6 +98,7 @@ const std::vector<MetadataKey>& metadataKeys() {
       {"time_up", "1: the time budget ended the render."},
       {"partial", "1: the render was interrupted (the image is `OUT.partial.exr`)."},
       {"exposure", "PNG only: the exposure in EV."},
+      {"exposure_rule", "PNG only, with `--exposure auto`: how the exposure was metered from the image."},
       {"tonemap", "PNG only: the tone curve."},
       {"range_begin", "A slice (`--sample-range`, `--pass-range`): its first sample or pass."},
       {"range_end", "A slice: one past its last sample or pass."},

@@ -19,8 +19,29 @@ enum class ToneCurve { Clamp, ACES };
 struct Display {
   double exposure = 0.0;  // EV: linear values are multiplied by 2^exposure
   ToneCurve curve = ToneCurve::Clamp;
-  bool isDefault() const { return exposure == 0.0 && curve == ToneCurve::Clamp; }
+  // --exposure auto: the exposure is metered from the image (meteredExposure) when it is written.
+  bool autoExposure = false;
+  bool isDefault() const { return exposure == 0.0 && curve == ToneCurve::Clamp && !autoExposure; }
 };
+
+// Automatic exposure, the metering rule: the log-average luminance of the lit pixels goes to
+// middle grey, EV = log2(0.18 / exp(mean ln Y)), Y = 0.2126 R + 0.7152 G + 0.0722 B of linear
+// sRGB (Reinhard et al. 2002, "Photographic tone reproduction", eq. 1, with the key a = 0.18).
+// Pixels with Y ≤ 0 (nothing lit: the background of a model lit by a lamp) and non-finite ones
+// are left out, so a small lit object on black is exposed for itself; an image with none lit
+// keeps EV 0. The result is held within ±20 EV.
+inline double meteredExposure(const float* rgb, size_t pixels) {
+  double sum = 0;
+  size_t lit = 0;
+  for (size_t i = 0; i < pixels; ++i) {
+    const double y = 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+    if (!(y > 0) || !std::isfinite(y)) continue;
+    sum += std::log(y);
+    ++lit;
+  }
+  if (lit == 0) return 0.0;
+  return std::clamp(std::log2(0.18) - sum / double(lit) / std::log(2.0), -20.0, 20.0);
+}
 
 inline float acesFilmic(float x) {
   x = std::max(x, 0.0f);

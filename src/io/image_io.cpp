@@ -27,9 +27,12 @@ void writeImage(const std::string& path, const ImageRGB& image, const std::map<s
   if (!out) throw Error(path + ": cannot create an image writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, 3, ext == ".exr" ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   for (auto& [key, value] : metadata) spec.attribute("photonlab:" + key, value);
+  Display shown = display;
+  if (ext == ".png" && display.autoExposure) shown.exposure = meteredExposure(image.data.data(), image.data.size() / 3);
   if (ext == ".png") {  // how the display values were made
-    spec.attribute("photonlab:exposure", formatNumber(display.exposure));
-    spec.attribute("photonlab:tonemap", toneCurveName(display.curve));
+    spec.attribute("photonlab:exposure", formatNumber(shown.exposure));
+    if (display.autoExposure) spec.attribute("photonlab:exposure_rule", "auto: the lit pixels' log-average luminance to 0.18");
+    spec.attribute("photonlab:tonemap", toneCurveName(shown.curve));
   }
   if (ext == ".exr") spec.attribute("compression", "zip");
   bool ok = out->open(tmp.string(), spec);
@@ -39,7 +42,7 @@ void writeImage(const std::string& path, const ImageRGB& image, const std::map<s
     } else {
       std::vector<unsigned char> bytes(image.data.size());
       for (size_t i = 0; i < bytes.size(); ++i)
-        bytes[i] = (unsigned char)std::lround(255.0f * displayValue(image.data[i], display));
+        bytes[i] = (unsigned char)std::lround(255.0f * displayValue(image.data[i], shown));
       ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
     }
     ok = out->close() && ok;

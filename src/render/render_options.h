@@ -26,6 +26,8 @@ struct RenderOptions {
   // Which of the scene file's cameras renders (GltfLoadOptions::camera); −1: the first, or the
   // automatic view of a file without one. Read when the scene is loaded.
   int camera = -1;
+  // A view from the command line instead (GltfLoadOptions::view); read when the scene is loaded.
+  CameraView view;
   // The sky (--env, an experiment's env): replaces the file's; read when the scene is loaded.
   EnvironmentSpec environment;
   // --units radiometric|photometric (GltfLoadOptions::units); empty: as the file says.

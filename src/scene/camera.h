@@ -8,6 +8,8 @@
 // measurement with We is the film's mean radiance, and pixel j's value is W·H times the part of
 // it that lands in pixel j (pbrt-v3 §16.1.1, Veach 1997 §8.1).
 #pragma once
+#include <string>
+
 #include "core/common.h"
 
 namespace pl {
@@ -122,25 +124,58 @@ struct Camera {
 
 // The view a file without a camera is rendered from: a three-quarter view, from the front
 // (+Z, the side glTF assets face), 45° to the right (+X) and 30° above the horizon (+Y up),
-// looking at the centre of the bounding sphere (center, radius). yfov is 40°. The distance
-// R / sin(h), with h the smaller of the vertical and horizontal half-angles for image aspect
-// `aspect` (width/height), puts the whole sphere inside the view cone of half-angle h, which
-// the image's frustum contains: nothing is cut off at any aspect. aspectRatio stays 0, so
-// the image keeps whatever size --width/--height give it.
-inline Camera automaticCamera(const Vec3& center, float radius, float aspect) {
-  constexpr float kAzimuth = 0.78539816f, kElevation = 0.52359878f, kYfov = 0.69813170f;
+// looking at the centre of the bounding sphere (center, radius); yfov 40°. Other angles (radians)
+// orbit the same centre (--orbit): azimuth from +Z towards +X, elevation above the horizon,
+// strictly between −90° and 90°. The distance R / sin(h), with h the smaller of the vertical and
+// horizontal half-angles for image aspect `aspect` (width/height), puts the whole sphere inside
+// the view cone of half-angle h, which the image's frustum contains: nothing is cut off at any
+// aspect. aspectRatio stays 0, so the image keeps whatever size --width/--height give it.
+inline Camera automaticCamera(const Vec3& center, float radius, float aspect, float azimuth = 0.78539816f,
+                              float elevation = 0.52359878f, float yfov = 0.69813170f) {
   if (!(radius > 0) || !std::isfinite(radius)) radius = 1.0f;
   if (!(aspect > 0) || !std::isfinite(aspect)) aspect = 1.0f;
-  const float halfV = 0.5f * kYfov, halfH = std::atan(std::tan(halfV) * aspect);
+  const float halfV = 0.5f * yfov, halfH = std::atan(std::tan(halfV) * aspect);
   const float distance = radius / std::sin(std::min(halfV, halfH));
-  const Vec3 away(std::cos(kElevation) * std::sin(kAzimuth), std::sin(kElevation), std::cos(kElevation) * std::cos(kAzimuth));
+  const Vec3 away(std::cos(elevation) * std::sin(azimuth), std::sin(elevation), std::cos(elevation) * std::cos(azimuth));
   Camera c;
-  c.yfov = kYfov;
+  c.yfov = yfov;
   c.position = center + distance * away;
   c.forward = -away;
   c.right = glm::normalize(glm::cross(c.forward, Vec3(0, 1, 0)));
   c.up = glm::cross(c.right, c.forward);
   return c;
 }
+
+// A pinhole at `from` looking at `at`, `up` giving the image's vertical (it need only not be
+// parallel to the view direction); yfov the full vertical field of view (radians).
+inline Camera lookAtCamera(const Vec3& from, const Vec3& at, const Vec3& up, float yfov) {
+  Camera c;
+  c.yfov = yfov;
+  c.position = from;
+  c.forward = glm::normalize(at - from);
+  c.right = glm::normalize(glm::cross(c.forward, up));
+  c.up = glm::cross(c.right, c.forward);
+  return c;
+}
+
+// A view given on the command line instead of the file's camera: --look-from/--look-at/--up,
+// --orbit AZ,EL around the automatic framing, and --fov (degrees, vertical) with either or alone
+// (then on the file's camera, or the automatic view).
+struct CameraView {
+  enum class Kind { File, LookAt, Orbit } kind = Kind::File;
+  Vec3 from{0.0f}, at{0.0f}, up{0, 1, 0};
+  float azimuth = 45, elevation = 30;  // degrees (Orbit)
+  float fov = 0;                       // degrees; 0: the camera's own (40° for the automatic views)
+  bool given() const { return kind != Kind::File || fov > 0; }
+  // As the image metadata records it: the flags that make the same view.
+  std::string describe() const {
+    auto v3 = [](const Vec3& v) { return formatNumber(v.x) + "," + formatNumber(v.y) + "," + formatNumber(v.z); };
+    std::string s = kind == Kind::LookAt  ? "--look-from " + v3(from) + " --look-at " + v3(at) + " --up " + v3(up)
+                    : kind == Kind::Orbit ? "--orbit " + formatNumber(azimuth) + "," + formatNumber(elevation)
+                                          : "";
+    if (fov > 0) s += (s.empty() ? "" : " ") + std::string("--fov ") + formatNumber(fov);
+    return s;
+  }
+};
 
 }  // namespace pl

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -139,12 +140,30 @@ class Loader {
     }
     scene_->setBvhLayout(options_.bvh);
     scene_->commit();
-    if (cameras.empty()) {
+    const CameraView& view = options_.view;
+    checkCameraView(view);
+    const float yfov = view.fov > 0 ? glm::radians(view.fov) : 0.69813170f;
+    if (view.kind == CameraView::Kind::LookAt) {
+      scene_->setCamera(lookAtCamera(view.from, view.at, view.up, yfov));
+      scene_->cameraSource = "--look-from/--look-at";
+    } else if (cameras.empty() || view.kind == CameraView::Kind::Orbit) {
       const Bounds& b = scene_->bounds();
-      scene_->setCamera(b.empty() ? automaticCamera(Vec3(0.0f), 1.0f, options_.aspect)
-                                  : automaticCamera(b.center(), b.radius(), options_.aspect));
-      scene_->cameraSource = "automatic (three-quarter view of the bounds)";
-      warn("no perspective camera: rendering from an automatic three-quarter view of the scene's bounds");
+      const float azimuth = view.kind == CameraView::Kind::Orbit ? glm::radians(view.azimuth) : 0.78539816f;
+      const float elevation = view.kind == CameraView::Kind::Orbit ? glm::radians(view.elevation) : 0.52359878f;
+      scene_->setCamera(b.empty() ? automaticCamera(Vec3(0.0f), 1.0f, options_.aspect, azimuth, elevation, yfov)
+                                  : automaticCamera(b.center(), b.radius(), options_.aspect, azimuth, elevation, yfov));
+      if (view.kind == CameraView::Kind::Orbit) {
+        scene_->cameraSource = "--orbit (the bounds framed from azimuth " + formatNumber(view.azimuth) + "°, elevation " +
+                               formatNumber(view.elevation) + "°)";
+      } else {
+        scene_->cameraSource = "automatic (three-quarter view of the bounds)";
+        warn("no perspective camera: rendering from an automatic three-quarter view of the scene's bounds (--orbit and "
+             "--look-from/--look-at choose another)");
+      }
+    } else if (view.fov > 0) {
+      Camera c = scene_->camera();
+      c.yfov = yfov;
+      scene_->setCamera(c);
     }
     if (average(scene_->totalPower()) <= 0) warn("the lights emit no power: the image will be black");
     return std::move(scene_);
@@ -194,9 +213,11 @@ class Loader {
       fail("--units", "must be radiometric or photometric, got '" + units + "'");
     }
     lightScale_ = units == "photometric" ? 1.0f / kLumensPerWatt : 1.0f;
-    scene_->units = units == "photometric"
-                        ? "photometric (" + source + "): cd, lx and nits divided by 683 lm/W"
-                        : "radiometric (" + source + "): W/sr, W/m2 and W/(m2 sr) as written";
+    scene_->units = (units == "photometric"
+                         ? "photometric (" + source + "): cd, lx and nits divided by 683 lm/W"
+                         : "radiometric (" + source + "): W/sr, W/m2 and W/(m2 sr) as written") +
+                    "; the default sky, where the file has no light, is radiance 1 in these units, as bright as an "
+                    "emissive factor of 1";
   }
 
   // The sky: the caller's (--env, an experiment's env) over the file's
@@ -221,8 +242,12 @@ class Loader {
       for (const Material& m : scene_->materials()) emissive |= !isBlack(m.emission);
       const bool radiometric = lightScale_ == 1.0f;
       if (!scene_->lights().empty() || (emissive && radiometric)) return;
+      // Radiance 1 in the file's units (1 nit in a photometric file): an emissive factor of 1
+      // then shows as bright as the sky, as glTF viewers show it, and a physical file's own
+      // ratios (candela, lux, nits) are untouched.
       spec = defaultEnvironment();
-      field = "default environment";
+      spec.radiance *= lightScale_;
+      field = std::string("default environment") + (radiometric ? "" : " (1 nit)");
       if (emissive)
         warn("no KHR_lights_punctual light, and in photometric units emissive materials are self-illumination, not the "
              "scene's lighting: lit by the default environment too, " + spec.describe() +
@@ -270,7 +295,35 @@ class Loader {
     return spec;
   }
 
+  // What is not a glTF file at all gets one line saying what is read, before any parser sees it:
+  // a folder, a missing file, or bytes that are neither a .glb (magic "glTF") nor JSON (an
+  // object: '{' after any white space), such as an .obj, an .fbx or an image.
+  void checkIsGltf() const {
+    std::string head;
+    if (bytes_) {
+      head.assign(reinterpret_cast<const char*>(bytes_), std::min<size_t>(size_, 256));
+    } else {
+      std::error_code ec;
+      if (std::filesystem::is_directory(path_, ec)) fail("file", "is a folder; photonlab renders a glTF 2.0 file (.gltf or .glb)");
+      if (!std::filesystem::exists(path_, ec)) fail("file", "does not exist");
+      std::ifstream f(path_, std::ios::binary);
+      if (!f) fail("file", std::string("cannot open (") + std::strerror(errno) + ")");
+      head.resize(256);
+      f.read(head.data(), std::streamsize(head.size()));
+      head.resize(size_t(f.gcount()));
+    }
+    if (head.size() >= 4 && head.compare(0, 4, "glTF") == 0) return;
+    const size_t first = head.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && head[first] == '{') return;
+    std::string ext = std::filesystem::path(path_).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    fail("file", "not a glTF 2.0 file: photonlab reads .gltf (JSON) and .glb (binary glTF)" +
+                     (ext.empty() || ext == ".gltf" || ext == ".glb" ? std::string()
+                                                                    : "; convert the " + ext + " file to glTF, e.g. with Blender's exporter"));
+  }
+
   void parse() {
+    checkIsGltf();
     // tinygltf ignores a property of the wrong type, or reports it without saying where;
     // photonlab refuses a property of the wrong type first, naming the element (gltf_schema.h),
     // then a required extension it lacks and a missing external file (which tinygltf calls
@@ -733,6 +786,18 @@ class Loader {
                                                            textureTransform(index, m.emissiveTexture, el + ".emissiveTexture"));
     }
 
+    // KHR_materials_unlit, approximated: the base colour is emitted, in the file's units (so an
+    // unlit white shows as bright as the default sky, as viewers show it), and the surface
+    // reflects nothing. Unlike a viewer's unlit surface it also lights what it faces.
+    const bool unlit = extension(m.extensions, "KHR_materials_unlit") != nullptr;
+    if (unlit) {
+      out.emission = baseColor * lightScale_;
+      out.emissionTexture = pbr.baseColorTexture.index >= 0
+                                ? std::make_shared<ColorTexture>(out.emission, textureImage(pbr.baseColorTexture.index, el + ".baseColorTexture"),
+                                                                 textureTransform(index, pbr.baseColorTexture, el + ".baseColorTexture"))
+                                : nullptr;
+    }
+
     double transmission = 0.0, thickness = 0.0, ior = 1.5;
     int transmissionTexture = -1;
     if (auto* ext = extension(m.extensions, "KHR_materials_transmission")) {
@@ -802,6 +867,7 @@ class Loader {
     };
     desc.attenuationColor = attenuationColor, desc.attenuationDistance = attenuationDistance;
     desc.lambertian = lambertian;
+    if (unlit) desc.lambertian = true, desc.base = ColorTexture(Spectrum(0.0f)), desc.transmission = 0;
     desc.extras = extras;
     Reader reader(*this, index);
     for (const BSDFFactory& factory : bsdfFactories())
@@ -1201,6 +1267,21 @@ class Loader {
 };
 
 }  // namespace
+
+void checkCameraView(const CameraView& view) {
+  if (view.fov != 0 && !(view.fov > 0 && view.fov < 180))
+    throw Error("--fov: the vertical field of view must be between 0 and 180 degrees, got " + formatNumber(view.fov));
+  if (view.kind == CameraView::Kind::Orbit && !(std::abs(view.elevation) < 90 && std::isfinite(view.azimuth)))
+    throw Error("--orbit: the elevation must be strictly between -90 and 90 degrees, got " + formatNumber(view.elevation));
+  if (view.kind != CameraView::Kind::LookAt) return;
+  const Vec3 d = view.at - view.from;
+  if (!(glm::length(d) > 0) || !std::isfinite(glm::length(d)))
+    throw Error("--look-at: must differ from --look-from (both at " + formatNumber(view.from.x) + "," +
+                formatNumber(view.from.y) + "," + formatNumber(view.from.z) + ")");
+  const Vec3 side = glm::cross(glm::normalize(d), view.up);
+  if (!(glm::length(side) > 1e-4f * glm::length(view.up)))
+    throw Error("--up: must not point along the view direction (from --look-from to --look-at)");
+}
 
 std::unique_ptr<Scene> loadGltf(const std::string& path, std::vector<std::string>* warnings, const GltfLoadOptions& options) {
   return Loader(path, warnings, options).load();

@@ -14,6 +14,9 @@ struct GltfLoadOptions {
   // perspective camera, in scene order, as `photonlab info` lists them); -1: the first. A file
   // with none is rendered from automaticCamera() (scene/camera.h), with a warning.
   int camera = -1;
+  // A view from the command line instead (--look-from/--look-at, --orbit, --fov): checked by
+  // checkCameraView before loading.
+  CameraView view;
   float aspect = 1.0f;         // width/height of the image, for the automatic camera's framing
   // The sky (lights/environment_light.h): when enabled, it replaces the file's
   // extras.photonlab.environment. A scene with no light at all gets defaultEnvironment(), with a
@@ -33,6 +36,10 @@ struct GltfLoadOptions {
 // Photometric light values (cd, lx, nits) in radiometric units (W/sr, W/m², W/(m²·sr)): divided
 // by the luminous efficacy of 555 nm light, 683 lm/W.
 constexpr float kLumensPerWatt = 683.0f;
+
+// Throws Error("--FLAG: what is wrong") for a view that makes no camera: --look-from at --look-at,
+// --up along the view direction, an elevation of ±90° or more, a field of view outside (0°, 180°).
+void checkCameraView(const CameraView& view);
 
 // Throws Error("FILE: ELEMENT: what is wrong") on any bad input. Warnings (things ignored or
 // approximated) are appended to `warnings`.

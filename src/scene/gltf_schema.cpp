@@ -291,7 +291,7 @@ const std::vector<std::string>& supportedGltfExtensions() {
                                                  "KHR_materials_transmission", "KHR_materials_volume",
                                                  "KHR_materials_ior",          "KHR_materials_dispersion",
                                                  "KHR_texture_transform",      "KHR_mesh_quantization",
-                                                 "EXT_mesh_gpu_instancing"};
+                                                 "EXT_mesh_gpu_instancing",    "KHR_materials_unlit"};
   return names;
 }
 
