@@ -44,7 +44,7 @@ std::unique_ptr<Scene> sceneFile(const char* name) {
 
 }  // namespace
 
-TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 with bdpt, vcm and bpm - in RGB and spectral") {
+TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 with bdpt, vcm and bpm - in RGB and spectral", "[heavy]") {
   // scenes/furnace.gltf: emissive diffuse walls, Le = 1, ρ = 0.5, camera inside; every pixel's
   // expectation is 2 (the geometric series). 16×16 pixels, 64 iterations, seeds 1 and 2;
   // max_depth 64, so the series' cut-off (2⁻⁶⁵) is far below the noise. The mean within 1%, as
@@ -89,7 +89,7 @@ TEST_CASE("bidirectional: the closed furnace converges to L = Le/(1 − ρ) = 2 
   }
 }
 
-TEST_CASE("bidirectional: the mirror caustic of a point light per pixel - E = I/h² + R·I/(2H − h)² - where the path tracer fails") {
+TEST_CASE("bidirectional: the mirror caustic of a point light per pixel - E = I/h² + R·I/(2H − h)² - where the path tracer fails", "[heavy]") {
   // scene_helpers' MirrorCaustic: the mirror-image term is reachable only from the light side:
   // light tracing (t = 1) in bdpt, merging too in vcm and bpm. 512 iterations; merge radius
   // 2 cm, about two pixels' footprint, where the closed form's curvature biases a disc average
@@ -240,7 +240,7 @@ TEST_CASE("vcm and sppm agree region by region on the caustic scenes", "[long]")
   }
 }
 
-TEST_CASE("vcm's bias vanishes: its squared bias against the mirror caustic's closed form falls as the radius shrinks") {
+TEST_CASE("vcm's bias vanishes: its squared bias against the mirror caustic's closed form falls as the radius shrinks", "[heavy]") {
   // Independent runs' errors against the exact image e are independent, so mean((a − e)(b − e))
   // over the pixels estimates the squared bias alone, without the noise; averaged over the 15
   // pairs of 6 runs (a U-statistic), its standard error from leaving out one run at a time (the
@@ -300,7 +300,7 @@ TEST_CASE("vcm's bias vanishes: its squared bias against the mirror caustic's cl
   CHECK(b512.bias2 < (b8.bias2 - 3 * b8.se) / 2.83);
 }
 
-TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glossy lobes' densities in the weights") {
+TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glossy lobes' densities in the weights", "[heavy]") {
   // MIS weights sum to 1 over the techniques only if every technique computes the same pdf
   // ratios, forward and reverse; a wrong reverse density of a glossy lobe biases the sum. A
   // small room: a modified-Phong floor (SmallVCM's: kd 0.1, ks 0.7, n = 90), a rough GGX metal

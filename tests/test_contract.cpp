@@ -261,7 +261,7 @@ void checkClosedForm(const IntegratorEntry& entry, const ClosedForm& form) {
 
 }  // namespace
 
-TEST_CASE("contract: every integrator renders the same bits on 1 and 2 threads") {
+TEST_CASE("contract: every integrator renders the same bits on 1 and 2 threads", "[heavy]") {
   // The mirror-and-glass box: every kind of vertex. Streams are keyed by pixel and sample (or
   // path index), and sums are exact, so the thread count must not show.
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");

@@ -312,7 +312,7 @@ TEST_CASE("environment light: power is πR²·∫L dω, and its photons carry it
   CHECK(flux / 100000 == Approx(sky.power().g).epsilon(1e-4));
 }
 
-TEST_CASE("environment: a diffuse sphere under a constant sky is L = ρ·L_env, the sky itself L_env, in every integrator") {
+TEST_CASE("environment: a diffuse sphere under a constant sky is L = ρ·L_env, the sky itself L_env, in every integrator", "[heavy]") {
   // 24×24 pixels, seeds 1 and 2; the sphere's interior pixels (all 16 sub-pixel rays on it)
   // and the sky's (none). Accepted on the sphere: the mean's |z| < 4 from the seeds' own noise,
   // with that noise below 1% of the level (so a 4% error cannot pass), and the 99th percentile

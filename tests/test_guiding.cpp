@@ -248,7 +248,7 @@ TEST_CASE("guiding: the iteration schedule doubles and gives the last iteration 
   CHECK(GuidedIntegrator::schedule(1000) == std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128, 745});
 }
 
-TEST_CASE("guided: the closed furnace converges to L = Le/(1 − ρ) = 2 with both guides - in RGB and spectral") {
+TEST_CASE("guided: the closed furnace converges to L = Le/(1 − ρ) = 2 with both guides - in RGB and spectral", "[heavy]") {
   // scenes/furnace.gltf: emissive diffuse walls, Le = 1, ρ = 0.5; every pixel's expectation is
   // 2. 16×16 pixels, 64 spp, seeds 1 and 2, checkFurnace (scene_helpers.h): the mean within 1%,
   // and the pixels' spread around 2 over the seeds' noise within [0.7, 1.4] (768 values: its

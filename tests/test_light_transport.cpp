@@ -743,7 +743,7 @@ void addBox(Scene& scene, const Vec3& lo, const Vec3& hi, uint32_t material) {
 }
 }  // namespace
 
-TEST_CASE("KHR_materials_volume attenuation: a glass slab passes (1 − F)² a / (1 − F² a²) - Beer–Lambert on every path, camera side and light side") {
+TEST_CASE("KHR_materials_volume attenuation: a glass slab passes (1 − F)² a / (1 − F² a²) - Beer–Lambert on every path, camera side and light side", "[heavy]") {
   // A glass slab (η = 1.5) 0.2 m thick, 2 m wide, whose medium lets through attenuationColor
   // c = (0.5, 0.7, 0.9) per 0.1 m. A ray crossing it at θ (θ' inside, sinθ' = sinθ/η) goes
   // D/cosθ' through the medium, a = c^(D / (0.1 cosθ')) one way, and every internal reflection

@@ -193,7 +193,7 @@ TEST_CASE("radiosity: meshed form factors match the catalogue's closed forms and
   }
 }
 
-TEST_CASE("radiosity: the closed furnace has B = M/(1 − ρ) on every patch and L = 2 in every pixel") {
+TEST_CASE("radiosity: the closed furnace has B = M/(1 − ρ) on every patch and L = 2 in every pixel", "[heavy]") {
   // scenes/furnace.gltf: every wall emits Le = 1 and reflects ρ = 0.5, so B = πLe/(1 − ρ) = 2π
   // and L = B/π = 2. Each patch's row of form factors sums to 1 in a closed scene; the
   // quadrature's error in those sums (≤ 0.5% measured) moves B by at most

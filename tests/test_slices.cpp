@@ -178,7 +178,7 @@ TEST_CASE("SplatFilm: each pixel's sums are its splats' exact sums, whatever the
   }
 }
 
-TEST_CASE("slices: any split of a render merges into its bits (path by samples, pppm by passes)") {
+TEST_CASE("slices: any split of a render merges into its bits (path by samples, pppm by passes)", "[heavy]") {
   const std::string dir = GltfFixture::dir();
   SECTION("path tracer, 12 samples as 0:5, 5:6, 6:12, merged in another order - with either sampler") {
     const std::string sampler = GENERATE(as<std::string>{}, "independent", "sobol");
