@@ -11,7 +11,8 @@
 #                  checks under the sanitizers, on code paths shorter tests also take) and
 #                  [latency] (real-time stop bounds, which the sanitizers' slowdown would
 #                  break; every stop is also tested with an injected clock).
-#                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines.
+#                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines
+#                  (the test files at -O0: tests/CMakeLists.txt).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
