@@ -2,6 +2,7 @@
 
 #include <array>
 
+#include "bsdfs/albedo_grid.h"
 #include "core/sampling.h"
 #include "optics/optics.h"
 
@@ -9,20 +10,11 @@ namespace pl {
 
 namespace {
 
-constexpr float kDielectricF0 = 0.04f;  // (η − 1)² / (η + 1)² for glTF's η = 1.5
-
-float schlick(float F0, float cosTheta) {
-  float m = std::clamp(1.0f - std::abs(cosTheta), 0.0f, 1.0f);
-  return F0 + (1.0f - F0) * (m * m) * (m * m) * m;
-}
-
 // E(μ, roughness) on nodes μ_j = j/(nMu − 1), roughness_k = k/(nRough − 1). Each node by a
 // deterministic 96 × 96 midpoint rule over the sample square of the D(m) cosθm sampler, whose
 // estimand f cosθi / pdf = F(wo·m) G1(wo) G1(wi) (wo·m) / (cosθo cosθm) is smooth for every α,
 // so the same rule serves the sharp lobes. ~9 M evaluations, once, on first use.
-struct AlbedoTable {
-  static constexpr int nMu = 32, nRough = 32;
-  std::array<std::array<float, nMu>, nRough> E;
+struct AlbedoTable : AlbedoGrid<32, 32> {
   std::array<float, nRough> average;
 
   AlbedoTable() {
@@ -41,7 +33,7 @@ struct AlbedoTable {
             if (om <= 0) continue;
             Vec3 wi = reflect(wo, m);
             if (wi.z <= 0) continue;
-            sum += schlick(kDielectricF0, om) * ggx.G1(wo) * ggx.G1(wi) * om / (mu * m.z);
+            sum += fresnelSchlick(kDielectricF0, om) * ggx.G1(wo) * ggx.G1(wi) * om / (mu * m.z);
           }
         E[k][j] = float(std::min(1.0, sum / (n * n)));
       }
@@ -62,24 +54,9 @@ struct AlbedoTable {
   }
 };
 
-// Linear weights of x ∈ [0, 1] on n nodes.
-void lerpNodes(float x, int n, int* i0, float* t) {
-  float f = std::clamp(x, 0.0f, 1.0f) * (n - 1);
-  *i0 = std::min(int(f), n - 2);
-  *t = f - *i0;
-}
-
 }  // namespace
 
-float MetallicRoughness::specularAlbedo(float cosTheta, float roughness) {
-  const AlbedoTable& table = AlbedoTable::get();
-  int j, k;
-  float tj, tk;
-  lerpNodes(std::abs(cosTheta), AlbedoTable::nMu, &j, &tj);
-  lerpNodes(roughness, AlbedoTable::nRough, &k, &tk);
-  auto row = [&](int r) { return (1 - tj) * table.E[r][j] + tj * table.E[r][j + 1]; };
-  return (1 - tk) * row(k) + tk * row(k + 1);
-}
+float MetallicRoughness::specularAlbedo(float cosTheta, float roughness) { return AlbedoTable::get()(cosTheta, roughness); }
 
 float MetallicRoughness::specularAlbedoAverage(float roughness) {
   const AlbedoTable& table = AlbedoTable::get();
@@ -114,12 +91,12 @@ Spectrum MetallicRoughness::f(const Point& p, const Vec3& o, const Vec3& i, cons
     const Vec3 im = mirrored(i);
     const Vec3 m = glm::normalize(o + im);
     float microfacet = p.ggx.D(m) * p.ggx.G1(o) * p.ggx.G1(im) / (4.0f * o.z * im.z);
-    return rho * ((1 - p.metallic) * p.transmission * (1 - schlick(kDielectricF0, glm::dot(o, m))) * microfacet);
+    return rho * ((1 - p.metallic) * p.transmission * (1 - fresnelSchlick(kDielectricF0, glm::dot(o, m))) * microfacet);
   }
   Vec3 m = glm::normalize(o + i);
   float om = glm::dot(o, m);
   float microfacet = p.ggx.D(m) * p.ggx.G1(o) * p.ggx.G1(i) / (4.0f * o.z * i.z);
-  Spectrum F = (1 - p.metallic) * Spectrum(schlick(kDielectricF0, om)) + p.metallic * fresnelSchlick(rho, om);
+  Spectrum F = (1 - p.metallic) * Spectrum(fresnelSchlick(kDielectricF0, om)) + p.metallic * fresnelSchlick(rho, om);
   Spectrum f = F * microfacet;
   if (p.metallic < 1 && p.transmission < 1) {
     float Eo = specularAlbedo(o.z, p.roughness), Ei = specularAlbedo(i.z, p.roughness);

@@ -35,7 +35,14 @@ inline float fresnelDielectric(float cosThetaI, float eta) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
+// glTF's dielectric: (η − 1)² / (η + 1)² for η = 1.5.
+constexpr float kDielectricF0 = 0.04f;
+
 // Schlick's approximation F = F0 + (1 − F0)(1 − cosθ)⁵, per channel (metals: F0 = baseColor).
+inline float fresnelSchlick(float F0, float cosTheta) {
+  float m = std::clamp(1.0f - std::abs(cosTheta), 0.0f, 1.0f);
+  return F0 + (1.0f - F0) * (m * m) * (m * m) * m;
+}
 inline Spectrum fresnelSchlick(const Spectrum& F0, float cosTheta) {
   float m = std::clamp(1.0f - std::abs(cosTheta), 0.0f, 1.0f);
   float m5 = (m * m) * (m * m) * m;
