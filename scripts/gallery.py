@@ -29,8 +29,12 @@ KHRONOS = "https://raw.githubusercontent.com/KhronosGroup/glTF-Sample-Assets/mai
 MODELS = [
     ("DamagedHelmet", "metallic-roughness, normal and emissive textures; automatic camera, default sky",
      "the helmet whole on a grey sky; the visor's cyan emissive panels glow, the scratched metal reads"),
-    ("ToyCar", "its own camera (the first of 8); transmission; clearcoat and sheen ignored (warned)",
-     "the green car on its dark cloth from the file's camera, which cuts the tail fins; clear windows"),
+    ("ToyCar", "its own camera (the first of 8); transmission; clearcoat on the body, sheen on the cloth",
+     "the green car on its red velvet from the file's camera, which cuts the tail fins; the coat's highlights along the bodywork, the velvet lighter on its folds where the sheen catches the sky; clear windows; the sky behind clips to white"),
+    ("SheenChair", "KHR_materials_sheen velvet (sheen roughness 0.8) over textured fabric; wooden legs",
+     "the orange velvet chair whole on a grey sky, seat and back lighter toward their edges where the sheen rises at grazing angles; dark wooden legs"),
+    ("ClearCoatCarPaint", "KHR_materials_clearcoat (factor 1, roughness 0) over a red paint with a normal map",
+     "a dark red sphere, a little lighter at its rim: under the uniform sky the coat reflects the same grey in every direction, so only its Fresnel rise shows (a sky with some shape would show the reflection)"),
     ("WaterBottle", "metallic-roughness and normal textures",
      "the bottle whole: yellow body, dark red cap, the logo and the black holder legible"),
     ("CesiumMilkTruck", "base-colour textures, a node hierarchy",
@@ -159,7 +163,7 @@ def write_page(page, images, shown, args):
              f"the path tracer at {args.width} pixels wide, {args.time:g} s or {args.spp} spp, and no option "
              "at all: the model's own camera or the automatic view, its own lights or the default sky, the "
              "automatic exposure and the default tone curve. The warnings column counts what photonlab said "
-             "it ignored or supplied (camera, sky, occlusion textures, clearcoat, sheen, ...). The models come "
+             "it ignored or supplied (camera, sky, occlusion textures, ...). The models come "
              "from a folder laid out as Khronos' glTF-Sample-Assets `Models/`, or are downloaded from that "
              "repository; nothing of them is committed.", "",
              "```sh",

@@ -830,15 +830,15 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
              Contains("extensionsRequired[1]: KHR_draco_mesh_compression is required by the file and photonlab does not implement it"));
   GltfFixture m;
   m.doc["extensionsRequired"] = {"KHR_lights_punctual"};  // implemented: loads
-  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_sheen", "KHR_materials_clearcoat", "KHR_materials_variants",
+  m.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_iridescence", "KHR_materials_anisotropy", "KHR_materials_variants",
                             "KHR_materials_transmission"};
   m.doc["materials"][0]["name"] = "seat";
   m.doc["materials"][0].erase("extras");  // the specification's material, not the fixture's Lambertian
-  m.doc["materials"][0]["extensions"] = {{"KHR_materials_sheen", json::object()}, {"KHR_materials_clearcoat", json::object()}};
+  m.doc["materials"][0]["extensions"] = {{"KHR_materials_iridescence", json::object()}, {"KHR_materials_anisotropy", json::object()}};
   m.doc["materials"][0]["extensions"]["KHR_materials_transmission"] = {{"transmissionFactor", 0.5}};
   m.doc["materials"][0]["extensions"]["KHR_materials_ior"] = {{"ior", 1.4}};
   for (int i = 0; i < 3; ++i)
-    m.doc["materials"].push_back({{"extensions", {{"KHR_materials_sheen", json::object()},
+    m.doc["materials"].push_back({{"extensions", {{"KHR_materials_iridescence", json::object()},
                                                   {"KHR_materials_transmission", {{"transmissionFactor", 0.5}}},
                                                   {"KHR_materials_ior", {{"ior", 1.4}}}}},
                                   {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
@@ -847,9 +847,9 @@ TEST_CASE("loader: a required extension photonlab lacks is a one-line error nami
   auto count = [&](const std::string& text) {
     return std::count_if(warnings.begin(), warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
   };
-  CHECK(count("KHR_materials_sheen") == 1);
-  CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_sheen is not implemented: ignored") == 1);
-  CHECK(count("materials[0] 'seat': KHR_materials_clearcoat is not implemented: ignored") == 1);
+  CHECK(count("KHR_materials_iridescence") == 1);
+  CHECK(count("materials[0] 'seat' (and 3 more): KHR_materials_iridescence is not implemented: ignored") == 1);
+  CHECK(count("materials[0] 'seat': KHR_materials_anisotropy is not implemented: ignored") == 1);
   CHECK(count("extensionsUsed: KHR_materials_variants is not implemented: ignored") == 1);
   CHECK(count("KHR_lights_punctual") == 0);
   // The loader's own approximations are said the same way: once for the four materials. Thin-
@@ -1583,4 +1583,45 @@ TEST_CASE("loader: the default sky is radiance 1 in the file's units - as bright
   const Vec3 up(0, 0, 1), out = glm::normalize(Vec3(0.3f, 0.2f, 1));
   CHECK(isBlack(m.bsdf->eval(up, out, BSDFContext())));
   for (const auto& w : warnings) CHECK(w.find("not implemented") == std::string::npos);
+}
+
+TEST_CASE("loader: KHR_materials_sheen and KHR_materials_clearcoat layer the material - sheen under the coat - and bad factors are one line") {
+  GltfFixture layered;
+  layered.doc["materials"][0] = {
+      {"name", "paint"},
+      {"pbrMetallicRoughness", {{"baseColorFactor", {0.6, 0.1, 0.1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}},
+      {"extensions",
+       {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.3}, {"clearcoatNormalTexture", {{"index", 0}}}}},
+        {"KHR_materials_sheen", {{"sheenColorFactor", {0.5, 0.5, 0.5}}, {"sheenRoughnessFactor", 0.5}}}}}};
+  layered.doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_sheen"};
+  std::vector<std::string> warnings;
+  auto scene = loadGltf(layered.write("layered.gltf"), &warnings);
+  const BSDF& bsdf = *scene->materials()[0].bsdf;
+  CHECK(std::string(bsdf.name()) == "clearcoat over sheen over metallic-roughness");
+  CHECK(bool(bsdf.flags() & kGlossyReflection));
+  for (const auto& w : warnings) CHECK(w.find("not implemented") == std::string::npos);
+  CHECK(std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) {
+          return w.find("materials[0] 'paint': KHR_materials_clearcoat.clearcoatNormalTexture is ignored") != std::string::npos;
+        }) == 1);
+  // Factors zero (the defaults): no layer at all; over glass, none either, and said.
+  GltfFixture bare;
+  bare.doc["materials"][0] = {{"extensions", {{"KHR_materials_clearcoat", json::object()}, {"KHR_materials_sheen", json::object()}}}};
+  CHECK(std::string(loadGltf(bare.write("bare.gltf"))->materials()[0].bsdf->name()) == "ggx");  // glTF's default: metallic 1
+  GltfFixture glass;
+  glass.doc["materials"][0] = {{"extensions",
+                                {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+                                 {"KHR_materials_volume", {{"thicknessFactor", 0.1}}},
+                                 {"KHR_materials_clearcoat", {{"clearcoatFactor", 1.0}}}}}};
+  warnings.clear();
+  CHECK(std::string(loadGltf(glass.write("glass.gltf"), &warnings)->materials()[0].bsdf->name()) == "dielectric");
+  CHECK(std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) {
+          return w.find("clearcoat over a smooth glass or mirror is ignored") != std::string::npos;
+        }) == 1);
+  // Out of range: one line naming the field.
+  GltfFixture bad;
+  bad.doc["materials"][0] = {{"extensions", {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.5}}}}}};
+  CHECK_THAT(loadError(bad.write("bad-coat.gltf")), Contains("materials[0].KHR_materials_clearcoat.clearcoatFactor: must be in [0, 1]"));
+  GltfFixture badSheen;
+  badSheen.doc["materials"][0] = {{"extensions", {{"KHR_materials_sheen", {{"sheenColorFactor", {0.5, 2.0, 0.5}}}}}}};
+  CHECK_THAT(loadError(badSheen.write("bad-sheen.gltf")), Contains("materials[0].KHR_materials_sheen.sheenColorFactor"));
 }

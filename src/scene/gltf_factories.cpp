@@ -2,12 +2,14 @@
 
 #include <tiny_gltf.h>
 
+#include "bsdfs/clearcoat.h"
 #include "bsdfs/dielectric.h"
 #include "bsdfs/ggx_conductor.h"
 #include "bsdfs/lambertian.h"
 #include "bsdfs/metallic_roughness.h"
 #include "bsdfs/mirror.h"
 #include "bsdfs/phong.h"
+#include "bsdfs/sheen.h"
 #include "bsdfs/thin_dielectric.h"
 #include "lights/directional_light.h"
 #include "lights/point_light.h"
@@ -66,6 +68,20 @@ const std::vector<BSDFFactory>& bsdfFactories() {
          if (m.transmission > 0 && m.ior != 1.5)
            r.ignored("KHR_materials_ior on a rough thin-walled surface is ignored (its Fresnel layer is glTF's ior 1.5)");
          return std::make_unique<MetallicRoughness>(m.base, std::move(mr), std::move(through));
+       }},
+  };
+  return table;
+}
+
+const std::vector<BSDFLayerFactory>& bsdfLayerFactories() {
+  static const std::vector<BSDFLayerFactory> table = {
+      {"sheen", [](const GltfMaterial& m) { return m.sheen > 0; },
+       [](const GltfMaterial& m, GltfReader&) -> std::unique_ptr<BSDFLayer> {
+         return std::make_unique<Sheen>(m.sheenColor(), m.sheenRoughness());
+       }},
+      {"clearcoat", [](const GltfMaterial& m) { return m.clearcoat > 0; },
+       [](const GltfMaterial& m, GltfReader&) -> std::unique_ptr<BSDFLayer> {
+         return std::make_unique<Clearcoat>(m.clearcoatWeight(), m.clearcoatRoughness());
        }},
   };
   return table;

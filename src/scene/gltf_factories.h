@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bsdfs/bsdf.h"
+#include "bsdfs/layered.h"
 #include "image/texture.h"
 #include "lights/light.h"
 #include "scene/scene.h"
@@ -44,6 +45,12 @@ struct GltfMaterial {
   std::function<ColorTexture()> transmissionColor;  // transmissionFactor × the texture's R, loaded when asked
   Spectrum attenuationColor{1.0f};
   double attenuationDistance = INFINITY;
+  // KHR_materials_clearcoat: factor × clearcoatTexture's R, and roughness factor × its texture's
+  // G (in a ColorTexture's G channel); KHR_materials_sheen: colour factor × texture, and
+  // roughness factor × its texture's alpha. Textures loaded when asked.
+  float clearcoat = 0.0f, sheen = 0.0f;  // clearcoatFactor; the largest of sheenColorFactor
+  std::function<ColorTexture()> clearcoatWeight, clearcoatRoughness, sheenColor;
+  std::function<AlphaTexture()> sheenRoughness;
   bool lambertian = false;                  // extras.photonlab.bsdf = "lambertian"
   const tinygltf::Value* extras = nullptr;  // extras.photonlab, or null
 };
@@ -56,6 +63,16 @@ struct BSDFFactory {
   std::function<std::unique_ptr<BSDF>(const GltfMaterial&, GltfReader&, Material&)> make;
 };
 const std::vector<BSDFFactory>& bsdfFactories();
+
+// A layer over what the material rows made, tried in order, each applied when it applies:
+// sheen, then clearcoat over it (the specification's order). A base with only delta lobes
+// (glass, a mirror) is left bare, said once per file.
+struct BSDFLayerFactory {
+  const char* name;
+  std::function<bool(const GltfMaterial&)> applies;
+  std::function<std::unique_ptr<BSDFLayer>(const GltfMaterial&, GltfReader&)> make;
+};
+const std::vector<BSDFLayerFactory>& bsdfLayerFactories();
 
 // A KHR_lights_punctual light, its photonlab extras read and checked.
 struct GltfLight {

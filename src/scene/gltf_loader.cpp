@@ -626,6 +626,31 @@ class Loader {
     return t;
   }
 
+  // A textureInfo inside a material extension (tinygltf leaves those as JSON values), in the
+  // shape textureTransform() reads; index −1 when the extension has no `key`.
+  struct ExtensionTexture {
+    int index = -1;
+    tinygltf::ExtensionMap extensions;
+  };
+  ExtensionTexture extensionTexture(int material, const tinygltf::Value& ext, const char* key, const std::string& el) {
+    ExtensionTexture t;
+    if (!ext.Has(key)) return t;
+    const tinygltf::Value& info = ext.Get(key);
+    double number = -1;
+    if (!getNumber(info, "index", &number)) fail(el + "." + key + ".index", "must be a texture index");
+    t.index = int(number);
+    if (getNumber(info, "texCoord", &number) && number != 0)
+      ignoredInMaterial(material, std::string(key) + " uses TEXCOORD_" + std::to_string(int(number)) + "; TEXCOORD_0 is used");
+    if (info.Has("extensions") && info.Get("extensions").IsObject())
+      for (const std::string& name : info.Get("extensions").Keys()) t.extensions[name] = info.Get("extensions").Get(name);
+    return t;
+  }
+  // A factor in [0, 1], left as it is when absent.
+  void unitInterval(const tinygltf::Value& ext, const char* key, const std::string& el, double* value) {
+    if (ext.Has(key) && !getNumber(ext, key, value)) fail(el + "." + key, "must be a number");
+    if (!(*value >= 0 && *value <= 1)) fail(el + "." + key, "must be in [0, 1]");
+  }
+
   // Colour textures (base colour, emission) are sRGB-encoded; data textures (metallic-roughness)
   // are linear, so they are decoded with `srgb` false.
   std::shared_ptr<const Image> textureImage(int textureIndex, const std::string& el, bool srgb = true) {
@@ -838,6 +863,30 @@ class Loader {
       if (!(dispersion >= 0.0 && dispersion <= 20.0)) fail(el + ".KHR_materials_dispersion.dispersion", "must be in [0, 20]");
     }
 
+    // KHR_materials_clearcoat and KHR_materials_sheen: layers over the material (bsdfs/layered.h).
+    double clearcoat = 0.0, clearcoatRoughness = 0.0, sheenRoughness = 0.0;
+    Spectrum sheenColor(0.0f);
+    ExtensionTexture clearcoatTexture, clearcoatRoughnessTexture, sheenColorTexture, sheenRoughnessTexture;
+    if (auto* ext = extension(m.extensions, "KHR_materials_clearcoat")) {
+      const std::string ce = el + ".KHR_materials_clearcoat";
+      unitInterval(*ext, "clearcoatFactor", ce, &clearcoat);
+      unitInterval(*ext, "clearcoatRoughnessFactor", ce, &clearcoatRoughness);
+      clearcoatTexture = extensionTexture(index, *ext, "clearcoatTexture", ce);
+      clearcoatRoughnessTexture = extensionTexture(index, *ext, "clearcoatRoughnessTexture", ce);
+      if (ext->Has("clearcoatNormalTexture"))
+        ignoredInMaterial(index, "KHR_materials_clearcoat.clearcoatNormalTexture is ignored (the coat takes the material's shading normal)");
+    }
+    if (auto* ext = extension(m.extensions, "KHR_materials_sheen")) {
+      const std::string se = el + ".KHR_materials_sheen";
+      if (ext->Has("sheenColorFactor")) {
+        sheenColor = spectrumValue(ext->Get("sheenColorFactor"), se + ".sheenColorFactor");
+        checkRange(se + ".sheenColorFactor", sheenColor, 0.0f, 1.0f);
+      }
+      unitInterval(*ext, "sheenRoughnessFactor", se, &sheenRoughness);
+      sheenColorTexture = extensionTexture(index, *ext, "sheenColorTexture", se);
+      sheenRoughnessTexture = extensionTexture(index, *ext, "sheenRoughnessTexture", se);
+    }
+
     const tinygltf::Value* extras = photonlabExtras(m.extras);
     // extras.photonlab.bsdf = "lambertian": f = baseColor/π, without the specification's 4 %
     // specular layer (what photonlab's own scenes and closed-form tests mean by a diffuse wall).
@@ -866,8 +915,28 @@ class Loader {
                           textureImage(transmissionTexture, el + ".KHR_materials_transmission.transmissionTexture", false));
     };
     desc.attenuationColor = attenuationColor, desc.attenuationDistance = attenuationDistance;
+    desc.clearcoat = float(clearcoat);
+    desc.clearcoatWeight = [&] {
+      return ColorTexture(Spectrum(float(clearcoat)), textureImage(clearcoatTexture.index, el + ".KHR_materials_clearcoat.clearcoatTexture", false),
+                          textureTransform(index, clearcoatTexture, el + ".KHR_materials_clearcoat.clearcoatTexture"));
+    };
+    desc.clearcoatRoughness = [&] {
+      const std::string te = el + ".KHR_materials_clearcoat.clearcoatRoughnessTexture";
+      return ColorTexture(Spectrum(1.0f, float(clearcoatRoughness), 1.0f), textureImage(clearcoatRoughnessTexture.index, te, false),
+                          textureTransform(index, clearcoatRoughnessTexture, te));
+    };
+    desc.sheen = std::max({sheenColor.r, sheenColor.g, sheenColor.b});
+    desc.sheenColor = [&] {
+      const std::string te = el + ".KHR_materials_sheen.sheenColorTexture";
+      return ColorTexture(sheenColor, textureImage(sheenColorTexture.index, te), textureTransform(index, sheenColorTexture, te));
+    };
+    desc.sheenRoughness = [&] {
+      const std::string te = el + ".KHR_materials_sheen.sheenRoughnessTexture";
+      return AlphaTexture(float(sheenRoughness), textureImage(sheenRoughnessTexture.index, te, false),
+                          textureTransform(index, sheenRoughnessTexture, te));
+    };
     desc.lambertian = lambertian;
-    if (unlit) desc.lambertian = true, desc.base = ColorTexture(Spectrum(0.0f)), desc.transmission = 0;
+    if (unlit) desc.lambertian = true, desc.base = ColorTexture(Spectrum(0.0f)), desc.transmission = 0, desc.clearcoat = desc.sheen = 0;
     desc.extras = extras;
     Reader reader(*this, index);
     for (const BSDFFactory& factory : bsdfFactories())
@@ -875,6 +944,14 @@ class Loader {
         out.bsdf = factory.make(desc, reader, out);
         break;
       }
+    for (const BSDFLayerFactory& layer : bsdfLayerFactories()) {
+      if (!layer.applies(desc)) continue;
+      if (out.bsdf->isSpecular()) {
+        ignoredInMaterial(index, std::string(layer.name) + " over a smooth glass or mirror is ignored (a layer needs a rough base)");
+        continue;
+      }
+      out.bsdf = std::make_unique<Layered>(std::move(out.bsdf), layer.make(desc, reader));
+    }
     return out;
   }
 

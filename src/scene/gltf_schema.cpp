@@ -215,6 +215,19 @@ void checkDocument(const json& doc) {
     });
     m.extension("KHR_materials_ior", [](const Members& e) { e.number("ior"); });
     m.extension("KHR_materials_dispersion", [](const Members& e) { e.number("dispersion"); });
+    m.extension("KHR_materials_clearcoat", [](const Members& e) {
+      e.number("clearcoatFactor");
+      e.object("clearcoatTexture", textureInfo);
+      e.number("clearcoatRoughnessFactor");
+      e.object("clearcoatRoughnessTexture", textureInfo);
+      e.object("clearcoatNormalTexture", textureInfo);
+    });
+    m.extension("KHR_materials_sheen", [](const Members& e) {
+      e.numbers("sheenColorFactor", 3);
+      e.object("sheenColorTexture", textureInfo);
+      e.number("sheenRoughnessFactor");
+      e.object("sheenRoughnessTexture", textureInfo);
+    });
     photonlabExtras(m);
   });
   topLevel(doc, "accessors", [](const Members& a) {
@@ -291,7 +304,8 @@ const std::vector<std::string>& supportedGltfExtensions() {
                                                  "KHR_materials_transmission", "KHR_materials_volume",
                                                  "KHR_materials_ior",          "KHR_materials_dispersion",
                                                  "KHR_texture_transform",      "KHR_mesh_quantization",
-                                                 "EXT_mesh_gpu_instancing",    "KHR_materials_unlit"};
+                                                 "EXT_mesh_gpu_instancing",    "KHR_materials_unlit",
+                                                 "KHR_materials_clearcoat",    "KHR_materials_sheen"};
   return names;
 }
 
