@@ -12,7 +12,7 @@
 #                  [latency] (real-time stop bounds, which the sanitizers' slowdown would
 #                  break; every stop is also tested with an injected clock).
 #                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines
-#                  (the test files at -O0: tests/CMakeLists.txt).
+#                  (the test files without debug information: tests/CMakeLists.txt).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
