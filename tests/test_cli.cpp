@@ -140,7 +140,7 @@ TEST_CASE("cli: a file without a camera renders from the automatic view - info d
   CHECK_THAT(i.out, Contains("cameras: 1 in the file"));
   CHECK_THAT(i.out, Contains("0: nodes[1], cameras[0]"));
   CHECK_THAT(i.out, Contains("lights: 1"));
-  CHECK_THAT(i.out, Contains("environment: default environment: constant 1, 1, 1 W/(m2 sr)"));
+  CHECK_THAT(i.out, Contains("environment: default environment: overcast sky (CIE), mean radiance 1, 1, 1 W/(m2 sr)"));
   Result e = run("render " + g.write("cli-nolight.gltf") + " -o " + dir + "/nolight.exr --spp 1 --width 8");
   INFO(e.err);
   CHECK(e.code == 0);

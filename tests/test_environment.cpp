@@ -339,6 +339,41 @@ TEST_CASE("environment: a diffuse sphere under a constant sky is L = ρ·L_env, 
   }
 }
 
+TEST_CASE("environment: the default overcast sky is CIE's L_z (1 + 2 cosθ)/3 over a ground of albedo 0.3, mean 1 - an open floor under it is ρ·7L_z/9") {
+  // Independent numbers: the sky's mean over the sphere is (2/3 + 0.7/3)/2 · L_z = 0.45 L_z, so
+  // L_z = 20/9; the ground is (0.7/3) L_z; the irradiance of an open upward surface is
+  // ∫ L cosθ dω = (2π L_z/3)(1/2 + 2/3) = 7π L_z/9.
+  const double Lz = 20.0 / 9.0;
+  const ImageRGB map = overcastSky(Spectrum(1.0f));
+  REQUIRE(map.width == 1);
+  const int H = map.height;
+  CHECK(map.at(0, 0).g == Approx(Lz).epsilon(1e-3));                  // the zenith's band
+  CHECK(map.at(0, H / 2 - 1).g == Approx(Lz / 3).epsilon(0.02));      // just above the horizon
+  CHECK(map.at(0, H / 2).g == Approx(0.7 / 3 * Lz).epsilon(1e-5));    // the ground
+  CHECK(map.at(0, H - 1).g == Approx(0.7 / 3 * Lz).epsilon(1e-5));
+  auto sky = makeEnvironment(defaultEnvironment(), nullptr, "default");
+  CHECK(sky->integral().r == Approx(4 * kPi).epsilon(1e-5));
+  CHECK_THAT(sky->description(), Contains("overcast sky (CIE), mean radiance 1, 1, 1"));
+  CHECK(parseEnvironment("overcast", "--env").sky == "overcast");
+  // Per pixel, path traced: a Lambertian floor of ρ = 0.5 seen from above, nothing else.
+  const float rho = 0.5f;
+  Scene scene;
+  addQuad(scene, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, lambertian(scene, rho));
+  scene.addLight(makeEnvironment(defaultEnvironment(), nullptr, "default"));
+  scene.setCamera(lookingDown(1.0f, 0.8f));
+  scene.commit();
+  const ImageRGB expected = expectedFloorImage(scene, 16, 16, [&](const Vec3&) { return rho * 7 * Lz / 9; });
+  checkAgreesPerPixel(
+      [&](uint64_t seed) {
+        RenderOptions o;
+        o.width = o.height = 16;
+        o.spp = 64;
+        o.seed = seed;
+        return makeWith("path", {{"spp", 64}}, o)->render(scene, o, nullptr);
+      },
+      expected);
+}
+
 TEST_CASE("environment: a white furnace - reflectance 1 under a constant sky - is L_env everywhere", "[long]") {
   // A floor, a wall behind it and a sphere on the floor, all Lambertian with ρ = 1, under
   // L_env = 0.5: radiance is L_env at every point and in every direction (nothing absorbs, and

@@ -311,7 +311,7 @@ TEST_CASE("loader: every camera a file places is listed, the first renders, and 
   }
 }
 
-TEST_CASE("loader: a file without lights is lit by the default environment, a uniform sky of radiance 1, with a warning") {
+TEST_CASE("loader: a file without lights is lit by the default environment, an overcast sky of mean radiance 1, with a warning") {
   GltfFixture g;
   g.doc["scenes"][0]["nodes"] = {0, 1};
   std::vector<std::string> warnings;
@@ -320,6 +320,7 @@ TEST_CASE("loader: a file without lights is lit by the default environment, a un
   REQUIRE(scene->environment() != nullptr);
   CHECK(scene->triangleCount() == 2);
   // ∫ L dω over the sphere = 4π·1, the same in every channel.
+  CHECK_THAT(scene->environment()->description(), Contains("overcast sky"));
   CHECK(scene->environment()->integral().r == Approx(4 * kPi).epsilon(1e-5));
   CHECK(scene->environment()->integral().b == Approx(4 * kPi).epsilon(1e-5));
   CHECK_THAT(scene->environmentSource, Contains("default environment"));
@@ -1567,7 +1568,7 @@ TEST_CASE("loader: the default sky is radiance 1 in the file's units - as bright
   REQUIRE(scene->environment() != nullptr);
   CHECK(scene->environment()->integral().g == Approx(4 * kPi / kLumensPerWatt).epsilon(1e-5));
   CHECK(scene->materials()[0].emission.g == Approx(1.0f / kLumensPerWatt));
-  CHECK_THAT(scene->units, Contains("the default sky, where the file has no light, is radiance 1 in these units"));
+  CHECK_THAT(scene->units, Contains("the default sky, where the file has no light, is an overcast sky of mean radiance 1 in these units"));
   CHECK_THAT(scene->environmentSource, Contains("default environment (1 nit)"));
   // Unlit: the base colour (0.25, 0.5, 1) emitted, nothing reflected, no "not implemented";
   // required by the file, it loads.

@@ -550,7 +550,8 @@ int main(int argc, char** argv) {
   std::string envText;
   float envRotate = 0.0f, envScale = 1.0f;
   render->add_option("--env", envText,
-                     "Environment light: R,G,B (or one number) radiance in W/(m2 sr), or an equirectangular map "
+                     "Environment light: R,G,B (or one number) radiance in W/(m2 sr), overcast (the CIE overcast sky "
+                     "of mean radiance 1, the default where a file has no light), or an equirectangular map "
                      "(EXR, HDR, PFM; PNG/JPEG are sRGB-decoded); replaces the file's");
   auto* envRotateOpt = render->add_option("--env-rotate", envRotate, "Degrees the --env map turns about +Y");
   auto* envScaleOpt = render->add_option("--env-scale", envScale, "Factor on the --env radiance");

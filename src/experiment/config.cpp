@@ -34,7 +34,7 @@ const std::vector<ConfigKey>& experimentKeys() {
       {"", "description", "string", "One line shown in the report."},
       {"", "scene", "string", "The glTF file (`.gltf` or `.glb`), relative to the config. Required."},
       {"", "units", "string", "How the file's light values are read: `radiometric` or `photometric`, as `--units` (default: what the file says)."},
-      {"", "env", "number, [r, g, b] or string", "A sky for every run and the reference, as `--env`: a radiance, or a map file relative to the config."},
+      {"", "env", "number, [r, g, b] or string", "A sky for every run and the reference, as `--env`: a radiance, \"overcast\", or a map file relative to the config."},
       {"", "env_rotate", "number", "Degrees the `env` map turns about +Y, as `--env-rotate` (needs `env`)."},
       {"", "env_scale", "number", "Factor on the `env` radiance, as `--env-scale` (needs `env`)."},
       {"", "width", "integer", "Image width in pixels, 1 to 16384 (default 512, or from `height` and the camera's aspect)."},

@@ -128,6 +128,7 @@ void EnvironmentLight::pdfLe(const Ray& ray, const Vec3&, float* pdfPos, float* 
 }
 
 std::string EnvironmentSpec::describe() const {
+  if (map.empty() && !sky.empty()) return sky + " sky (CIE), mean radiance " + rgbText(radiance * scale) + " W/(m2 sr)";
   if (map.empty()) return "constant " + rgbText(radiance * scale) + " W/(m2 sr)";
   std::string s = "map " + map;
   if (rotation != 0) s += ", rotated " + shortNumber(rotation) + " deg";
@@ -139,7 +140,23 @@ EnvironmentSpec defaultEnvironment() {
   EnvironmentSpec e;
   e.enabled = true;
   e.radiance = Spectrum(1.0f);
+  e.sky = "overcast";
   return e;
+}
+
+ImageRGB overcastSky(const Spectrum& mean, int rows) {
+  // Band [μb, μa] of cosθ (dω ∝ dμ): the mean of (1 + 2μ)/3 is (1 + μa + μb)/3 above the horizon.
+  const int H = rows + rows % 2;  // even: the horizon is a row edge
+  std::vector<double> L(static_cast<size_t>(H));
+  double integral = 0;
+  for (int j = 0; j < H; ++j) {
+    const double a = rowEdge(j, H), b = rowEdge(j + 1, H);
+    L[size_t(j)] = j < H / 2 ? (1 + a + b) / 3 : 0.7 / 3;
+    integral += L[size_t(j)] * 2 * kPi * (a - b);
+  }
+  ImageRGB map(1, H);
+  for (int j = 0; j < H; ++j) map.set(0, j, mean * float(L[size_t(j)] * 4 * kPi / integral));
+  return map;
 }
 
 EnvironmentSpec parseEnvironment(const std::string& text, const std::string& field) {
@@ -156,6 +173,10 @@ EnvironmentSpec parseEnvironment(const std::string& text, const std::string& fie
     double v = std::strtod(p.c_str(), &end);
     if (p.empty() || end != p.c_str() + p.size()) break;
     values.push_back(v);
+  }
+  if (text == "overcast") {
+    e.sky = text;
+    return e;
   }
   if (values.size() != parts.size()) {  // not numbers: a file
     if (parts.size() > 1 && !values.empty())
@@ -175,6 +196,8 @@ std::unique_ptr<EnvironmentLight> makeEnvironment(const EnvironmentSpec& spec, c
                                                   const std::string& field) {
   if (!(spec.scale >= 0) || !std::isfinite(spec.scale)) throw Error(field + ": scale must be finite and >= 0");
   if (!std::isfinite(spec.rotation)) throw Error(field + ": rotation must be a finite angle in degrees");
+  if (spec.map.empty() && !spec.sky.empty())
+    return std::make_unique<EnvironmentLight>(overcastSky(spec.radiance * spec.scale), spec.rotation, spec.describe());
   if (spec.map.empty()) return EnvironmentLight::constant(spec.radiance * spec.scale);
   if (!std::filesystem::is_regular_file(spec.map)) throw Error(field + ": file not found: " + spec.map);
   if (!read) throw Error(field + ": " + spec.map + ": no image reader here to read an environment map");

@@ -81,16 +81,25 @@ class EnvironmentLight final : public Light {
 // (extras.photonlab.environment) and in experiments (env, env_rotate, env_scale).
 struct EnvironmentSpec {
   bool enabled = false;
-  Spectrum radiance{1.0f};  // the constant sky's radiance, W/(m²·sr), when `map` is empty
+  Spectrum radiance{1.0f};  // the constant sky's radiance, W/(m²·sr) (a named sky's mean), when `map` is empty
+  std::string sky;          // a named analytic sky: "overcast" (overcastSky below), or empty
   std::string map;          // an equirectangular image: EXR, HDR or PFM (linear) or PNG/JPEG (sRGB-decoded)
   float rotation = 0.0f;    // degrees about +Y
   float scale = 1.0f;
   std::string describe() const;  // "constant 1, 1, 1 W/(m2 sr)" or "map sky.exr, rotated 90 deg, scale 2"
 };
 
-// The sky a scene without any light gets (with a note): uniform white of radiance 1 W/(m²·sr),
-// which lights a diffuse surface of albedo ρ facing up in the open to radiance ρ.
+// The sky a scene without any light gets (with a note): the overcast sky of mean radiance
+// 1 W/(m²·sr) (`--env 1` is the uniform one).
 EnvironmentSpec defaultEnvironment();
+
+// The CIE standard overcast sky (Moon and Spencer 1942; CIE S 011, sky type 1),
+// L(θ) = L_z (1 + 2 cosθ)/3 above the horizon, over a grey ground of albedo 0.3 that it lights,
+// L_g = 0.3 E/π = (0.7/3) L_z, scaled so that its mean over the sphere is `mean`. Brighter
+// overhead than at the horizon and darker below, it shades a model's tops and undersides apart
+// and gives glossy surfaces a horizon to reflect, where a uniform sky shows neither. `rows` rows
+// of constant θ, one texel wide (it does not vary with φ), each the exact mean of L over its band.
+ImageRGB overcastSky(const Spectrum& mean, int rows = 256);
 
 // "R,G,B" or "L" (radiance) or a file name: what --env takes. Throws Error naming `field` on a
 // negative or non-finite number.

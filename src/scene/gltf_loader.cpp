@@ -216,8 +216,8 @@ class Loader {
     scene_->units = (units == "photometric"
                          ? "photometric (" + source + "): cd, lx and nits divided by 683 lm/W"
                          : "radiometric (" + source + "): W/sr, W/m2 and W/(m2 sr) as written") +
-                    "; the default sky, where the file has no light, is radiance 1 in these units, as bright as an "
-                    "emissive factor of 1";
+                    "; the default sky, where the file has no light, is an overcast sky of mean radiance 1 in these "
+                    "units, on average as bright as an emissive factor of 1";
   }
 
   // The sky: the caller's (--env, an experiment's env) over the file's
@@ -242,9 +242,9 @@ class Loader {
       for (const Material& m : scene_->materials()) emissive |= !isBlack(m.emission);
       const bool radiometric = lightScale_ == 1.0f;
       if (!scene_->lights().empty() || (emissive && radiometric)) return;
-      // Radiance 1 in the file's units (1 nit in a photometric file): an emissive factor of 1
-      // then shows as bright as the sky, as glTF viewers show it, and a physical file's own
-      // ratios (candela, lux, nits) are untouched.
+      // Mean radiance 1 in the file's units (1 nit in a photometric file): an emissive factor
+      // of 1 then shows about as bright as the sky, as glTF viewers show it, and a physical
+      // file's own ratios (candela, lux, nits) are untouched.
       spec = defaultEnvironment();
       spec.radiance *= lightScale_;
       field = std::string("default environment") + (radiometric ? "" : " (1 nit)");
