@@ -26,7 +26,7 @@ class BSDFLayer {
 // Conty 2017), the base seen through what the layer does not reflect. The min is symmetric, so
 // f stays reciprocal, and the albedo at wo is at most a(μo) + (1 − a(μo)) × the base's ≤ 1:
 // energy conserving when the base is. Light the layer would reflect back into the base is lost
-// rather than scattered again (a few % darker than a physical layer; docs: reference/gltf.md).
+// rather than scattered again: darker than a physical layer (docs: reference/gltf.md).
 // Sampled by one-sample MIS: the layer's lobe with probability a(μo), its share of the albedo,
 // so both lobes' weights stay near their albedos. A base's delta lobes (a mirror under a coat)
 // are scaled the same way, min(1 − a(μo), 1 − a(μi)) at their one direction.

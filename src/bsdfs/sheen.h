@@ -10,8 +10,8 @@ namespace pl {
 //   D(m) = (2 + 1/α) sin^(1/α)θm / (2π),   V = 1 / (4 (cosθi + cosθo − cosθi cosθo)),
 //   f_sheen = sheenColor · D(m) V / max(1, E(μo), E(μi)).
 // E(μ) = ∫ D V cosθi dωi, tabulated once over (μ, roughness): near grazing and for small α the
-// unscaled lobe reflects more than it receives (E up to ~4), and dividing by the larger of the
-// two directions' E (never by less than 1) bounds the albedo by 1 while keeping f symmetric.
+// unscaled lobe reflects more than it receives (E > 1), and dividing by the larger of the two
+// directions' E (never by less than 1) bounds the albedo by 1 while keeping f symmetric.
 // Its albedo is then at most max(sheenColor) · min(1, E(μ)). Sampled by the cosine lobe.
 class Sheen final : public BSDFLayer {
  public:
