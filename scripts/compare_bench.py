@@ -51,7 +51,11 @@ def main():
     ap.add_argument("new")
     ap.add_argument("--rounds", type=int, default=3, help="runs of each build (default 3)")
     ap.add_argument("bench_args", nargs="*", help="after --: options for photonlab bench")
-    a = ap.parse_args()
+    # argparse does not take options after "--" into a positional list: split them off first.
+    argv = sys.argv[1:]
+    bench = argv[argv.index("--") + 1:] if "--" in argv else []
+    a = ap.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
+    a.bench_args = a.bench_args + bench
     runs = {"old": [], "new": []}
     order = []
     for r in range(a.rounds):

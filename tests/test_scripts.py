@@ -679,3 +679,25 @@ def test_compare_convergence_agrees_with_itself_and_tells_a_different_estimate(t
     assert differ.returncode == 1, differ.stdout + differ.stderr
     assert "DIFFER" in differ.stdout
     assert "| path | 16 |" in table.read_text()
+
+
+def test_compare_bench_interleaves_two_builds_and_passes_bench_options(tmp_path):
+    # scripts/compare_bench.py against two stand-in binaries: each prints a bench table whose rate
+    # is its own and records the options it was given. ABBA order, the ratio new/old, and the
+    # options after "--" reaching `bench`.
+    def fake(name, rate):
+        path = tmp_path / name
+        path.write_text("#!/bin/sh\n"
+                        f"echo \"$@\" >> {tmp_path / (name + '.args')}\n"
+                        "echo '| scene | 1 thread |'\necho '|---|---|'\n"
+                        f"echo '| box | {rate} |'\n")
+        path.chmod(0o755)
+        return str(path)
+    old, new = fake("old", 100), fake("new", 110)
+    r = subprocess.run([sys.executable, os.path.join(SCRIPTS, "compare_bench.py"), old, new, "--rounds", "2",
+                        "--", "--scene", "x.gltf"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "| box | 1 thread | 100 | 110 | 1.100 | 1.100-1.100 |" in r.stdout
+    for name in ("old", "new"):
+        assert (tmp_path / (name + ".args")).read_text().splitlines() == ["bench --scene x.gltf"] * 2
+    assert [line.split()[1] for line in r.stderr.splitlines() if line.strip().startswith("ran")] == ["old", "new", "new", "old"]
