@@ -15,6 +15,7 @@
 #include "integrator_helpers.h"
 #include "scene_helpers.h"
 #include "render/renderer.h"
+#include "ggx_reference.h"
 #include "gltf_fixture.h"
 #include "scene/gltf_factories.h"
 #include "scene/gltf_loader.h"
@@ -1625,4 +1626,45 @@ TEST_CASE("loader: KHR_materials_sheen and KHR_materials_clearcoat layer the mat
   GltfFixture badSheen;
   badSheen.doc["materials"][0] = {{"extensions", {{"KHR_materials_sheen", {{"sheenColorFactor", {0.5, 2.0, 0.5}}}}}}};
   CHECK_THAT(loadError(badSheen.write("bad-sheen.gltf")), Contains("materials[0].KHR_materials_sheen.sheenColorFactor"));
+}
+
+TEST_CASE("loader: a clear-coated black floor under a directional light is c F D G1 G1 E/(4 cos) per pixel - shadow rays, light tracing, photons") {
+  // As the metal floor above, with the coat alone: a Lambertian base of albedo 0 under
+  // KHR_materials_clearcoat (factor c = 0.8, roughness 0.5: α = 0.25), so f = c F(o·m) D(m)
+  // G1(o) G1(i) / (4 μo μi) with F = 0.04 + 0.96 (1 − o·m)⁵, the GGX formulas of
+  // tests/ggx_reference.h. Sun straight down (E = 3 W/m²), camera 2 m above; acceptance as there.
+  GltfFixture f;
+  f.doc["materials"][0]["pbrMetallicRoughness"] = {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}}, {"metallicFactor", 0.0}};
+  f.doc["materials"][0]["extensions"] = {{"KHR_materials_clearcoat", {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.5}}}};
+  f.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}, {"intensity", 3.0}};
+  f.doc["nodes"][2]["rotation"] = {-0.7071068, 0, 0, 0.7071068};
+  auto scene = loadGltf(f.write("coat-floor.gltf"));
+  REQUIRE(std::string(scene->materials()[0].bsdf->name()) == "clearcoat over lambertian");
+  const double c = 0.8, alpha = 0.25, E = 3.0;
+  auto L = [&](const Vec3& x) {
+    glm::dvec3 wo = glm::normalize(glm::dvec3(0, 2, 0) - glm::dvec3(x)), wi(0, 1, 0), m = glm::normalize(wo + wi);
+    return c * schlick004(glm::dot(wo, m)) * ggxD(m.y, alpha) * ggxG1(wo.y, alpha) * ggxG1(1.0, alpha) / (4 * wo.y) * E;
+  };
+  const int W = 16;
+  ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
+  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) { checkAgreesPerPixel(renderSeed, expected); };
+  RenderOptions small;
+  small.width = small.height = W;
+  for (const char* name : {"direct", "light"}) {
+    INFO(name);
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      o.spp = std::string(name) == "direct" ? 64 : 512;
+      return render(*scene, *makeIntegrator(name, o), o, nullptr);
+    });
+  }
+  {
+    INFO("photons alone (ppm)");
+    agree([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
+    });
+  }
 }
