@@ -470,6 +470,29 @@ std::vector<uint8_t> pngRow(int width, int colorType, int bits, const std::vecto
 // u = (x + 1)/2, v = (z + 1)/2, times `factor`.
 // The fixture's floor with TEXCOORD_0 u = (x + 1)/2, v = (z + 1)/2 and textures[0] the image at
 // `dataUri`, which no material uses yet.
+// A floor lit by a light, against its expected image per pixel through every path that carries
+// the light: shadow rays (direct, 64 spp), light tracing (512 paths per pixel) and photons
+// alone (PPM, 16 passes × 100k, 3 cm), seeds 1 and 2, as checkAgreesPerPixel accepts them.
+void checkFloorEveryPath(const Scene& scene, const ImageRGB& expected) {
+  RenderOptions small;
+  small.width = expected.width, small.height = expected.height;
+  for (const char* name : {"direct", "light"}) {
+    INFO(name);
+    checkAgreesPerPixel([&](uint64_t seed) {
+      RenderOptions o = small;
+      o.seed = seed;
+      o.spp = std::string(name) == "direct" ? 64 : 512;
+      return render(scene, *makeIntegrator(name, o), o, nullptr);
+    }, expected);
+  }
+  INFO("photons alone (ppm)");
+  checkAgreesPerPixel([&](uint64_t seed) {
+    RenderOptions o = small;
+    o.seed = seed;
+    return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(scene, o, nullptr);
+  }, expected);
+}
+
 GltfFixture floorWithTexture(const std::string& dataUri) {
   GltfFixture f;
   float uv[8] = {0, 0, 0, 1, 1, 1, 1, 0};
@@ -802,26 +825,7 @@ TEST_CASE("loader: a metallic-roughness metal floor under a directional light is
   };
   const int W = 16;
   ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
-  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) { checkAgreesPerPixel(renderSeed, expected); };
-  RenderOptions small;
-  small.width = small.height = W;
-  for (const char* name : {"direct", "light"}) {
-    INFO(name);
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      o.spp = std::string(name) == "direct" ? 64 : 512;
-      return render(*scene, *makeIntegrator(name, o), o, nullptr);
-    });
-  }
-  {
-    INFO("photons alone (ppm)");
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
-    });
-  }
+  checkFloorEveryPath(*scene, expected);
 }
 
 TEST_CASE("loader: a required extension photonlab lacks is a one-line error naming it - ignored features are one warning each") {
@@ -1415,26 +1419,7 @@ TEST_CASE("loader: COLOR_0 multiplies the base colour per vertex - per pixel thr
   auto L = [&](const Vec3& x) { return 0.5 * colourAt(x) * 3.0 / kPi; };
   const int W = 16;
   ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
-  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) { checkAgreesPerPixel(renderSeed, expected); };
-  RenderOptions small;
-  small.width = small.height = W;
-  for (const char* name : {"direct", "light"}) {
-    INFO(name);
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      o.spp = std::string(name) == "direct" ? 64 : 512;
-      return render(*scene, *makeIntegrator(name, o), o, nullptr);
-    });
-  }
-  {
-    INFO("photons alone (ppm)");
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
-    });
-  }
+  checkFloorEveryPath(*scene, expected);
   // Per channel: a colour (1, 0.5, 0.25) everywhere gives ρ·(1, 0.5, 0.25) (byte 128 = 0.50196,
   // 64 = 0.25098).
   auto tinted = loadGltf(floorWithColors({255, 128, 64, 255, 255, 128, 64, 255, 255, 128, 64, 255, 255, 128, 64, 255}).write("tint.gltf"));
@@ -1647,24 +1632,5 @@ TEST_CASE("loader: a clear-coated black floor under a directional light is c F D
   };
   const int W = 16;
   ImageRGB expected = expectedFloorImage(*scene, W, W, L, 6);
-  auto agree = [&](const std::function<ImageRGB(uint64_t)>& renderSeed) { checkAgreesPerPixel(renderSeed, expected); };
-  RenderOptions small;
-  small.width = small.height = W;
-  for (const char* name : {"direct", "light"}) {
-    INFO(name);
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      o.spp = std::string(name) == "direct" ? 64 : 512;
-      return render(*scene, *makeIntegrator(name, o), o, nullptr);
-    });
-  }
-  {
-    INFO("photons alone (ppm)");
-    agree([&](uint64_t seed) {
-      RenderOptions o = small;
-      o.seed = seed;
-      return makeWith("ppm", {{"passes", 16}, {"photons_per_pass", 100000}, {"radius", 0.03f}})->render(*scene, o, nullptr);
-    });
-  }
+  checkFloorEveryPath(*scene, expected);
 }
