@@ -7,10 +7,11 @@
 #   --all          every test, those included (what .ci/run runs)
 #   --sanitizers   then builds again with AddressSanitizer + UndefinedBehaviorSanitizer into
 #                  build-sanitize/ and runs the Catch2 tests there too (what .ci/run does),
-#                  all but those tagged [long] (ctest label "long": the longest convergence
-#                  checks under the sanitizers, on code paths shorter tests also take) and
-#                  [latency] (real-time stop bounds, which the sanitizers' slowdown would
-#                  break; every stop is also tested with an injected clock).
+#                  all but those tagged [long] and [heavy] (ctest labels "long", "heavy": the
+#                  longest convergence checks under the sanitizers, on code paths shorter tests
+#                  also take, measured with gcov) and [latency] (real-time stop bounds, which
+#                  the sanitizers' slowdown would break; every stop is also tested with an
+#                  injected clock).
 #                  -O1 -g1: half the build time of -O2 -g, and stack traces keep their lines
 #                  (the test files without debug information: tests/CMakeLists.txt).
 set -euo pipefail
@@ -32,9 +33,9 @@ else
 fi
 if compgen -G "tests/test_*.py" >/dev/null; then
   if [ $all = 1 ]; then
-    /usr/bin/python3 -m pytest -q -p no:cacheprovider tests
+    /usr/bin/python3 -m pytest -q -p no:cacheprovider --durations=8 tests
   else
-    /usr/bin/python3 -m pytest -q -p no:cacheprovider -m "not slow" tests
+    /usr/bin/python3 -m pytest -q -p no:cacheprovider --durations=8 -m "not slow" tests
   fi
 fi
 if [ $sanitizers = 1 ]; then
@@ -42,5 +43,5 @@ if [ $sanitizers = 1 ]; then
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DPHOTONLAB_SANITIZE=ON >/dev/null
   cmake --build build-sanitize -j"$(nproc)"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --timeout 900 -LE "long|latency"
+    ctest --test-dir build-sanitize --output-on-failure -j"$(nproc)" --timeout 900 -LE "long|heavy|latency"
 fi

@@ -19,6 +19,7 @@
 #include "lights/spot_light.h"
 #include "lights/warn_spotlight.h"
 #include "photon/photon_tracer.h"
+#include "radiosity/patch_mesh.h"
 #include "integrators/progressive.h"
 #include "render/renderer.h"
 #include "integrator_helpers.h"
@@ -415,6 +416,24 @@ TEST_CASE("guided: path guiding's images of every light match ρ/π·E per pixel
         return makeWith("guided", {{"spp", 64}, {"photons", 20000}}, ro, {{"guide", guide}})->render(scene, ro, nullptr);
       });
     }
+}
+
+TEST_CASE("radiosity: a textured emitter's patches exit M = π·Le at their centroids, from their front only") {
+  // The textured area light of lightCases() (Le(u) = texturedLe, u linear in x) cut into 4 cm
+  // patches: each front patch's exitance is π·Le at its centroid (the midpoint rule, the method's
+  // assumption of one value per patch); one-sided, so the emitter has no back patches.
+  Scene scene;
+  for (const LightCase& c : lightCases())
+    if (std::string(c.name) == "area (textured)") c.add(scene);
+  scene.commit();
+  PatchMesh mesh(scene, 0.04f);
+  for (const Patch& p : mesh.patches()) {
+    INFO("centroid x " << p.centroid.x);
+    CHECK(p.normal.y == Approx(-1.0f));
+    const double u = 0.125 + 0.75 * (p.centroid.x + 0.3) / 0.6;
+    CHECK(p.exitance.g == Approx(kPi * texturedLe(u)).epsilon(1e-4));
+  }
+  CHECK(mesh.size() == 2 * 19 * 19);  // two triangles, longest edge √(0.6² + 0.4²) = 0.721 m: 19 cuts
 }
 
 TEST_CASE("radiosity: every light over a floor gives ρ/π·E per pixel", "[long]") {
@@ -827,4 +846,44 @@ TEST_CASE("KHR_materials_volume attenuation: a glass slab passes (1 − F)² a /
     // stays black and the others carry 1/(1 − F)² (right on average, not per pixel).
     for (const char* name : {"sppm", "vcm", "photon"}) check(*scene, name, expected, 0.02);
   }
+}
+
+TEST_CASE("volume attenuation: a segment that ends on an absorbing volume's back face keeps c^(t/d) - one entering it, or in clear glass, keeps 1") {
+  // Beer–Lambert with KHR_materials_volume's parameters: σ = −ln(c)/d, so exp(−σ t) = c^(t/d) per
+  // channel, where t is the segment's length inside. The slab of the test above (y from 0.3 to
+  // 0.5, c = (0.5, 0.7, 0.9) per d = 0.1 m): a ray from inside meets a back face, one from above
+  // the front face, which ends a segment outside.
+  const Spectrum c(0.5f, 0.7f, 0.9f);
+  auto build = [&](const Spectrum& color) {
+    auto scene = std::make_unique<Scene>();
+    Material glass{"glass", std::make_unique<Dielectric>(1.5f), Spectrum(0.0f), false};
+    glass.attenuationColor = ColorTexture(color);
+    glass.attenuationDistance = 0.1f;
+    addBox(*scene, {-1, 0.3f, -1}, {1, 0.5f, 1}, scene->addMaterial(std::move(glass)));
+    scene->commit();
+    return scene;
+  };
+  auto segment = [](const Scene& scene, const Vec3& o, const Vec3& d) {
+    SurfaceHit hit;
+    REQUIRE(scene.intersect(Ray{o, glm::normalize(d)}, &hit));
+    return std::make_pair(hit.t, scene.transmittance(hit, glm::normalize(d), SampledWavelengths::rgb()));
+  };
+  auto scene = build(c);
+  REQUIRE(scene->hasAbsorbingVolumes());
+  struct Case { Vec3 o, d; double length; };
+  const double slant = std::sqrt(1.1);  // |(0.3, ±1, 0.1)|
+  for (const Case& k : {Case{{0.1f, 0.45f, 0.2f}, {0.3f, -1, 0.1f}, 0.15 * slant},  // down to the bottom face
+                        Case{{0.1f, 0.45f, 0.2f}, {0.3f, 1, 0.1f}, 0.05 * slant},   // up to the top face
+                        Case{{0.1f, 0.4f, 0.2f}, {1, 0, 0}, 0.9}}) {                // sideways to x = 1
+    auto [t, T] = segment(*scene, k.o, k.d);
+    INFO("from " << k.o.x << ", " << k.o.y << ", " << k.o.z);
+    CHECK(t == Approx(k.length).epsilon(1e-5));
+    for (int ch = 0; ch < 3; ++ch) CHECK(T[ch] == Approx(std::pow(double(c[ch]), k.length / 0.1)).epsilon(1e-5));
+  }
+  auto [tAbove, TAbove] = segment(*scene, {0.1f, 1, 0.2f}, {0, -1, 0});
+  CHECK(tAbove == Approx(0.5));
+  CHECK(TAbove == Spectrum(1.0f));
+  auto clear = build(Spectrum(1.0f));
+  CHECK_FALSE(clear->hasAbsorbingVolumes());
+  CHECK(segment(*clear, {0.1f, 0.45f, 0.2f}, {0.3f, -1, 0.1f}).second == Spectrum(1.0f));
 }

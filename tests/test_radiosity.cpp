@@ -322,7 +322,7 @@ TEST_CASE("radiosity: the diffuse Cornell box agrees with the path tracer region
 
 TEST_CASE("radiosity: the same image whatever the thread count") {
   auto scene = sceneFile("cornell-box");
-  for (const char* display : {"smooth", "gather"}) {
+  for (const char* display : {"smooth", "flat", "gather"}) {
     INFO(display);
     ImageRGB one = renderRadiosity(*scene, 24, 4, {{"patches", 800}}, display, 1);
     ImageRGB two = renderRadiosity(*scene, 24, 4, {{"patches", 800}}, display, 2);
