@@ -76,7 +76,7 @@ Spectrum PhotonIntegrator::finalGather(const Scene& scene, const SurfaceHit& hit
     Spectrum beta = bs.weight;
     Ray ray = scene.spawnRay(hit, hit.shading.toWorld(bs.wi));
     // Follow specular surfaces to the first diffuse or glossy one, and read the whole global
-    // map there. Emission found on the way is not added: it is direct light (shadow rays) or a
+    // map there. Emission found on the way is not added: it is direct light (estimateDirectMIS) or a
     // caustic (caustic map) at x.
     for (int depth = 0; depth < o_.maxDepth; ++depth) {
       SurfaceHit y;
@@ -127,7 +127,7 @@ Spectrum PhotonIntegrator::Li(const Ray& cameraRay, const Scene& scene, SampledW
       maps_.global.radiance(hit, wo, o_.density, Photon::kAcceptIndirect, &stats);
       return Spectrum(o_.aov == "photons" ? float(stats.photons) : stats.radius);
     }
-    L += beta * estimateDirect(scene, hit, woLocal, lambda, sampler, false);
+    L += beta * estimateDirectMIS(scene, hit, woLocal, lambda, sampler);
     L += beta * causticRadiance(hit, wo, lambda);
     if (o_.finalGather > 0)
       L += beta * finalGather(scene, hit, wo, lambda, sampler);

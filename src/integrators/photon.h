@@ -18,7 +18,7 @@ struct PhotonOptions {
 // Jensen's two-pass photon mapping. Pass 1 (preprocess) traces the global and caustic maps.
 // Pass 2, per eye ray: emission seen directly or through specular surfaces; specular surfaces
 // by recursion; at the first diffuse or glossy hit x:
-//   L = L_direct (shadow rays) + L_caustic (caustic map at x) + L_indirect,
+//   L = L_direct (estimateDirectMIS) + L_caustic (caustic map at x) + L_indirect,
 // where L_indirect is either a final gather, N BSDF-sampled rays whose first non-specular hit y
 // looks up the *whole* global map (light arriving at y by any path), or, with finalGather = 0,
 // the global map at x itself without its direct and caustic photons (direct visualisation).

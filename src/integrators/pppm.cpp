@@ -34,7 +34,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
     de.planeTolerance = 0.25f * de.radius;
-    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: shadow rays
+    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: estimateDirectMIS
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
@@ -47,7 +47,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         VisiblePoint vp;
         Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          L += vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler, false);
+          L += vp.beta * estimateDirectMIS(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler);
           L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);  // uplifted on a spectral path
         }
         if (ro.spectral) L = spectralToRGB(L, lambda.lambda);

@@ -35,7 +35,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         VisiblePoint& vp = visible[i];
         Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
         if (vp.valid) {
-          Spectrum direct = vp.beta * estimateDirect(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler, false);
+          Spectrum direct = vp.beta * estimateDirectMIS(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler);
           if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
         }
         finishSpectralVisiblePoint(lambda, &vp, &L);
@@ -45,7 +45,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;
-    // 3. Gather at the visible points (direct light came from shadow rays); a pixel's pass is
+    // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
     parallelFor(size_t(H), threads, [&](size_t y, int) {

@@ -7,8 +7,9 @@ namespace pl {
 // Every pass re-traces each pixel's camera ray with fresh jitter to a new visible point, so
 // antialiasing, glossy reflection and motion through glass converge too; the statistics
 // (N, R, τ) belong to the pixel and are updated with the PPM rules. Direct light is computed
-// at the visible point by a shadow ray each pass (averaged), so photon passes deposit only
-// photons that bounced at least once (caustic and indirect).
+// at the visible point each pass (averaged) by a light and a BSDF sample under MIS
+// (estimateDirectMIS), so photon passes deposit only photons that bounced at least once
+// (caustic and indirect).
 class SPPMIntegrator final : public PassIntegrator {
  public:
   using PassIntegrator::PassIntegrator;

@@ -27,4 +27,25 @@ Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& w
   return f * ls.Li * (std::abs(wi.z) * weight / lightPdf);
 }
 
+Spectrum estimateDirectMIS(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, SampledWavelengths& lambda,
+                           Sampler& sampler) {
+  Spectrum L = estimateDirect(scene, hit, woLocal, lambda, sampler, true);
+  BSDFSample bs;
+  const Vec2 u = sampler.get2D();
+  if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), u, sampler.get1D(), &bs)) return L;
+  if (bs.terminatesSecondary) lambda.terminateSecondary();
+  const Vec3 wi = hit.shading.toWorld(bs.wi);
+  if (leaksLight(hit, hit.shading.toWorld(woLocal), wi, woLocal, bs.wi)) return L;
+  SurfaceHit next;
+  if (!scene.intersect(scene.spawnRay(hit, wi), &next))
+    return L + bs.weight * escapedRadiance(scene, wi, lambda, bs.delta, bs.pdf);
+  if (!next.light) return L;
+  const Spectrum Le = next.light->L(next.uv, -wi, lambda);
+  if (isBlack(Le)) return L;
+  // A delta lobe (a smooth coat over a rough base) is found only by sampling: weight 1.
+  const float lightPdf = scene.lightDistribution().pmf(size_t(next.lightIndex)) * next.light->pdfLi(hit.p, next.p);
+  const float weight = bs.delta ? 1.0f : powerHeuristic(bs.pdf, lightPdf);
+  return L + bs.weight * scene.transmittance(next, wi, lambda) * Le * weight;
+}
+
 }  // namespace pl

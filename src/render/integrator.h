@@ -150,6 +150,15 @@ inline float powerHeuristic(float pdfA, float pdfB) {
 Spectrum estimateDirect(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda,
                         Sampler& sampler, bool mis);
 
+// Direct light at a non-specular point where the camera path ends, by both strategies, each
+// weighted by the power heuristic (Veach 1997, §9.2.4; pbrt-v3's EstimateDirect): the light
+// sample of estimateDirect(mis = true) and one BSDF sample that finds an area light or leaves
+// for the sky. Light sampling alone leaves a narrow glossy lobe under a sky black with speckles
+// (a sky sample rarely falls in the lobe); the visible points of the progressive photon maps,
+// which no later vertex follows, need the BSDF half here.
+Spectrum estimateDirectMIS(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, SampledWavelengths& lambda,
+                           Sampler& sampler);
+
 // What a camera path sees when its ray leaves the scene: the environment's radiance along it
 // (0 without one). After a non-specular bounce it is weighted by the power heuristic against
 // next-event estimation, which samples the same sky from the previous vertex with density
