@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "bsdfs/ggx_conductor.h"
 #include "bsdfs/lambertian.h"
 #include "bsdfs/mirror.h"
 #include "lights/point_light.h"
@@ -69,12 +70,16 @@ inline ImageRGB expectedFloorImage(const Scene& scene, int W, int H, const std::
 // camera between light and mirror looking down. The floor receives
 //   E = I cosθ/r² + R·I cosθ'/r'²   (the second from the mirror image of the light at 2H − h),
 // plus light that bounced between floor and mirror, a fraction ~ρR of E (0.08% at ρ = 0.001).
+// With glossyAlpha > 0 the floor is a GGX metal of F0 = rho and that roughness instead.
 struct MirrorCaustic {
-  float rho = 0.001f, h = 0.5f, H = 1.0f, I = 4.0f, R = 0.8f;
+  float rho = 0.001f, h = 0.5f, H = 1.0f, I = 4.0f, R = 0.8f, glossyAlpha = 0.0f;
   std::unique_ptr<Scene> build(float cameraFov = 0.3f) const {
     auto scene = std::make_unique<Scene>();
     float s = 20.0f;
-    addQuad(*scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(*scene, rho));
+    const uint32_t floor = glossyAlpha > 0 ? scene->addMaterial({"metal", std::make_unique<GGXConductor>(ColorTexture(Spectrum(rho)), glossyAlpha),
+                                                                 Spectrum(0), false})
+                                           : lambertian(*scene, rho);
+    addQuad(*scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, floor);
     uint32_t mirror = scene->addMaterial({"mirror", std::make_unique<Mirror>(ColorTexture(Spectrum(R))), Spectrum(0), false});
     addQuad(*scene, {-s, H, -s}, {s, H, -s}, {s, H, s}, {-s, H, s}, mirror);
     scene->addLight(std::make_unique<PointLight>(Vec3(0, h, 0), Spectrum(I)));

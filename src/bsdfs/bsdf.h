@@ -62,6 +62,7 @@ constexpr bool isSpecular(BSDFFlags f) { return f != kNoLobe && (f & kSmooth) ==
 // A lobe eval() sees that transmits (wo and wi on opposite sides: a thin translucent wall):
 // estimators that gather light on one side of a surface (photon density estimation) then gather
 // it from both.
+constexpr bool hasGlossy(BSDFFlags f) { return (f & (kGlossyReflection | kGlossyTransmission)) != 0; }
 constexpr bool hasSmoothTransmission(BSDFFlags f) { return (f & (kDiffuseTransmission | kGlossyTransmission)) != 0; }
 
 // The few classes that accelerators specialise on (pbrt-v4 dispatches on a TaggedPointer's tag

@@ -41,15 +41,13 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         size_t i = y * W + x;
         CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
         Rng& rng = eye.rng;
-        Sampler sampler(rng);
         SampledWavelengths& lambda = eye.lambda;
         const Ray& ray = eye.ray;
-        VisiblePoint vp;
-        Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
-        if (vp.valid) {
-          L += vp.beta * estimateDirectMIS(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler);
-          L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);  // uplifted on a spectral path
-        }
+        VisiblePoint vp, caustic;
+        Spectrum L = traceGatherPoints(scene, ray, lambda, rng, o.maxDepth, &vp, &caustic);
+        // The maps' radiance is uplifted on a spectral path.
+        if (vp.valid) L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);
+        if (caustic.valid) L += caustic.beta * maps.global.radiance(caustic.hit, caustic.wo, lambda, de, Photon::kAcceptCaustic);
         if (ro.spectral) L = spectralToRGB(L, lambda.lambda);
         if (isFinite(L)) sum[i * 3].add(L.r), sum[i * 3 + 1].add(L.g), sum[i * 3 + 2].add(L.b);  // non-finite: dropped
         ++passes[i];

@@ -62,6 +62,53 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
   return L;
 }
 
+bool narrowLobe(const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda) {
+  if (!hasGlossy(hit.bsdf->flags()) || !(woLocal.z > 0)) return false;
+  const Vec3 mirror(-woLocal.x, -woLocal.y, woLocal.z);
+  return hit.bsdf->pdf(woLocal, mirror, bsdfContext(hit, lambda)) * kGatherLobe > 1.0f;
+}
+
+Spectrum traceGatherPoints(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp,
+                           VisiblePoint* caustic) {
+  vp->valid = caustic->valid = false;
+  Sampler sampler(rng);
+  Spectrum L(0.0f), beta(1.0f);
+  bool onlySpecular = true;  // no non-specular vertex yet: emission seen counts in full
+  for (int depth = 0; depth <= maxDepth; ++depth) {
+    SurfaceHit hit;
+    if (!scene.intersect(ray, &hit)) {
+      if (onlySpecular) L += beta * escapedRadiance(scene, ray.d, lambda, true, 0.0f);
+      break;
+    }
+    beta *= scene.transmittance(hit, ray.d, lambda);
+    const Vec3 wo = -ray.d;
+    if (hit.light && onlySpecular) L += beta * hit.light->L(hit.uv, wo, lambda);
+    const Vec3 woLocal = hit.shading.toLocal(wo);
+    if (!hit.bsdf->isSpecular()) {
+      const Spectrum direct = beta * estimateDirectMIS(scene, hit, woLocal, lambda, sampler);
+      if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
+      // One continuation at most: the pixel has statistics for one caustic point.
+      VisiblePoint* here = caustic->valid || depth == maxDepth || !narrowLobe(hit, woLocal, lambda) ? vp : caustic;
+      here->hit = hit;
+      here->wo = wo;
+      here->beta = beta;
+      here->valid = true;
+      if (here == vp) break;
+      onlySpecular = false;
+    }
+    // The same draws, in the same order, as traceVisiblePoint.
+    BSDFSample s;
+    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) break;
+    if (s.terminatesSecondary) lambda.terminateSecondary();
+    beta *= s.weight;
+    if (isBlack(beta) || !isFinite(beta)) break;
+    ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+  }
+  // The progressive film has no per-sample discard: nothing non-finite may enter it.
+  if (!isFinite(L)) L = Spectrum(0.0f);
+  return L;
+}
+
 void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept, double photonsPerPass, double alpha,
                    ProgressiveStats* stats) {
   if (!vp.valid) return;
@@ -94,7 +141,7 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
 }
 
 PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
-    : RenderSession(scene, io, sizeof(VisiblePoint) + sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t),
+    : RenderSession(scene, io, 2 * (sizeof(VisiblePoint) + sizeof(ProgressiveStats)) + 6 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t),
                     "progressive image") {
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
   passes.assign(pixels, 0);
@@ -103,6 +150,11 @@ PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const Progress
 void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp, Spectrum* L) {
   if (!ctx.spectral) return;
   *L = spectralToRGB(*L, ctx.lambda);
+  finishSpectralVisiblePoint(ctx, vp);
+}
+
+void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp) {
+  if (!ctx.spectral) return;
   // A flat β (no coloured or dispersive surface on the way: the common case) is grey exactly;
   // otherwise the colour of white light through the chain is estimated at the path's wavelengths.
   const Spectrum& b = vp->beta;

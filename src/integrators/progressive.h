@@ -71,7 +71,29 @@ struct VisiblePoint {
   bool valid = false;
 };
 // Returns the emission picked up on the way (light seen directly or through specular surfaces).
+// PPM's hit points: all light there, direct included, comes from photons.
 Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp);
+
+// The gather points of sppm and pppm, whose photons carry no direct light. At each non-specular
+// vertex the direct light is a light and a BSDF sample under MIS (estimateDirectMIS). The path
+// goes on through the first lobe too narrow for a photon gather (narrowLobe), as pbrt-v3's SPPM
+// goes on through glossy surfaces; that vertex becomes `caustic`, which gathers only caustic
+// photons (L S+ x: the light a continued path cannot find, a delta light through glass), and
+// the next non-specular vertex becomes `vp`, which gathers caustic and indirect ones. Emission
+// met through specular surfaces counts only before the first non-specular vertex: after it,
+// it is that vertex's caustic photons. Every light path is counted once:
+//   L x (direct, MIS) + L S+ x (caustic photons at x) + L … N S* x (N: the next point's gather).
+// Returns the emission and direct light gathered on the way.
+Spectrum traceGatherPoints(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp,
+                           VisiblePoint* caustic);
+
+// A lobe narrower than a photon gather resolves: the BSDF's density towards the mirror
+// direction of wo exceeds 1/Ω, Ω = kGatherLobe sr. A gather of tens of photons sees incident
+// directions ~0.1–0.3 sr apart, so a narrower lobe weighs a few of them hugely and the rest not
+// at all: the speckles of glossy metal under SPPM. For GGX (density ≈ G1/(4πα² cosθo) there)
+// α below ~0.25 continues.
+constexpr float kGatherLobe = 0.25f;
+bool narrowLobe(const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelengths& lambda);
 
 // One photon pass's contribution at a visible point: the M photons of `accepted` path types
 // inside the statistics' radius (same side, near the tangent plane) and their flux
@@ -109,6 +131,7 @@ inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, i
 // In spectral mode the visible point's throughput β(λ) becomes the linear sRGB of white light
 // through the specular chain, so that gathers (in RGB) can use it; then the path ends.
 void finishSpectralVisiblePoint(const SampledWavelengths& lambda, VisiblePoint* vp, Spectrum* L);
+void finishSpectralVisiblePoint(const SampledWavelengths& lambda, VisiblePoint* vp);  // β alone
 
 // The loop all three share: runs pass(1), pass(2), ... until o.passes, the time limit or an
 // interrupt. pass(p) returns whether its photons were traced (a pass the budget stops before

@@ -15,30 +15,29 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   const Budget& budget = setup.budget;
   std::vector<uint32_t>& passes = setup.passes;
 
-  std::vector<VisiblePoint> visible(pixels);
+  std::vector<VisiblePoint> visible(pixels), causticPoints(pixels);
   std::vector<glm::dvec3> passDirect(pixels);               // this pass's Le + L_direct, until its gather
   std::vector<glm::dvec3> directSum(pixels, glm::dvec3(0.0));  // Σ over the pixel's passes of Le + L_direct
-  std::vector<ProgressiveStats> stats(pixels);
+  // A pixel's two sets of statistics: its visible points', and its narrow-lobe points' (caustic
+  // photons only), which passes without such a point leave unchanged.
+  std::vector<ProgressiveStats> stats(pixels), causticStats(pixels);
   for (auto& s : stats) s.R2 = double(r0) * r0;
+  for (auto& s : causticStats) s.R2 = double(r0) * r0;
 
   auto pass = [&](int p) {
-    // 1. Eye pass: a new visible point per pixel, and its direct light.
+    // 1. Eye pass: new gather points per pixel, and the direct light on the way to them.
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
         CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
         Rng& rng = eye.rng;
-        Sampler sampler(rng);
         SampledWavelengths& lambda = eye.lambda;
         const Ray& ray = eye.ray;
         VisiblePoint& vp = visible[i];
-        Spectrum L = traceVisiblePoint(scene, ray, lambda, rng, o.maxDepth, &vp);
-        if (vp.valid) {
-          Spectrum direct = vp.beta * estimateDirectMIS(scene, vp.hit, vp.hit.shading.toLocal(vp.wo), lambda, sampler);
-          if (isFinite(direct)) L += direct;  // a non-finite sample is dropped, never accumulated
-        }
+        Spectrum L = traceGatherPoints(scene, ray, lambda, rng, o.maxDepth, &vp, &causticPoints[i]);  // finite
         finishSpectralVisiblePoint(lambda, &vp, &L);
+        finishSpectralVisiblePoint(lambda, &causticPoints[i]);
         passDirect[i] = glm::dvec3(L);
       }
     });
@@ -48,11 +47,13 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
+    const double n = double(o.photonsPerPass);
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        gatherPhotons(visible[i], maps.global, accept, double(o.photonsPerPass), o.alpha, &stats[i]);
+        gatherPhotons(visible[i], maps.global, accept, n, o.alpha, &stats[i]);
+        gatherPhotons(causticPoints[i], maps.global, Photon::kAcceptCaustic, n, o.alpha, &causticStats[i]);
         directSum[i] += passDirect[i];
         ++passes[i];
       }
@@ -64,7 +65,8 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     for (size_t i = 0; i < pixels; ++i) {
       if (passes[i] == 0) continue;
       double n = double(passes[i]);
-      img.set(int(i % W), int(i / W), Spectrum(directSum[i] / n + stats[i].radiance(n * o.photonsPerPass)));
+      const double emitted = n * o.photonsPerPass;
+      img.set(int(i % W), int(i / W), Spectrum(directSum[i] / n + stats[i].radiance(emitted) + causticStats[i].radiance(emitted)));
     }
     return img;
   };
