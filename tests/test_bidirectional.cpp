@@ -227,7 +227,7 @@ TEST_CASE("vcm and sppm agree region by region on the caustic scenes", "[long]")
     auto sppm = [&](uint64_t seed) {
       RenderOptions ro;
       ro.width = c.width, ro.height = c.height, ro.seed = seed;
-      return makeWith("sppm", {{"passes", 64}, {"radius", c.radius}})->render(*scene, ro, nullptr);
+      return makeWith("sppm", {{"passes", 64}, {"photons_per_pass", 100000}, {"radius", c.radius}})->render(*scene, ro, nullptr);
     };
     ImageRGB s1 = sppm(1), s2 = sppm(2);
     ImageRGB v1 = renderWith(*scene, "vcm", c.width, c.height, 256, 1, {{"radius", c.radius}});

@@ -380,3 +380,25 @@ TEST_CASE("sppm and pppm through a narrow glossy floor agree with the path trace
     CHECK((meanOf(a1) + meanOf(a2)) / (meanOf(p1) + meanOf(p2)) == Approx(1.0).epsilon(0.02));
   }
 }
+
+TEST_CASE("photons per pass: sppm and pppm unset, the image's pixel count (resolved, and what a render traces) - set, as given - ppm 100,000") {
+  auto furnace = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
+  CHECK(integratorEntry("ppm").defaults().integer("photons_per_pass") == 100000);
+  for (const char* name : {"sppm", "pppm"}) {
+    INFO(name);
+    const IntegratorEntry& entry = integratorEntry(name);
+    ParamSet unset = entry.defaults();
+    entry.resolve(*furnace, 40, 30, unset);
+    CHECK(unset.integer("photons_per_pass") == 1200);
+    ParamSet given = entry.defaults();
+    given.setNumber("photons_per_pass", 777);
+    entry.resolve(*furnace, 40, 30, given);
+    CHECK(given.integer("photons_per_pass") == 777);
+    // Unresolved (a program's own ParamSet): the integrator takes the pixel count itself.
+    RenderOptions ro;
+    ro.width = 40, ro.height = 30;
+    RenderInfo info;
+    makeWith(name, {{"passes", 3}, {"radius", 0.1}})->render(*furnace, ro, &info);
+    CHECK(info.photons == 3 * 1200);
+  }
+}

@@ -142,8 +142,9 @@ ParamSpec passes() {
   return s;
 }
 
-ParamSpec photonsPerPass() {
-  ParamSpec s{"photons_per_pass", ParamType::Integer, "photon paths emitted per pass", "100000"};
+ParamSpec photonsPerPass(const char* defaultValue) {
+  ParamSpec s{"photons_per_pass", ParamType::Integer, "photon paths emitted per pass", defaultValue};
+  if (!*defaultValue) s.defaultDoc = "the image's pixel count";
   s.lo = 1, s.hi = 4294967295.0;
   return s;
 }

@@ -92,7 +92,7 @@ ParamSpec choice(std::string name, std::string doc, std::string defaultValue, st
 ParamSpec maxDepth();
 ParamSpec spp();
 ParamSpec passes();
-ParamSpec photonsPerPass();
+ParamSpec photonsPerPass(const char* defaultValue);  // "": the pixel count
 ParamSpec alpha();
 ParamSpec progressiveRadius();
 // --sampler (core/sampler.h): independent, or Sobol' points for the first `slots` draws of each

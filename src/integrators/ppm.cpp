@@ -35,13 +35,13 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(o.photonsPerPass), o.alpha, &stats[i]);
+        gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(setup.photonsPerPass), o.alpha, &stats[i]);
         ++passes[i];
       }
     });
@@ -51,7 +51,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
     ImageRGB img(W, H);
     for (size_t i = 0; i < pixels; ++i)
       if (passes[i] > 0)
-        img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(double(passes[i]) * o.photonsPerPass)));
+        img.set(int(i % W), int(i / W), Spectrum(emitted[i] + stats[i].radiance(double(passes[i]) * setup.photonsPerPass)));
     return img;
   };
   return runPasses(setup, o, info, pass, image, [&] { return meanRadius(stats); });
@@ -61,7 +61,7 @@ IntegratorEntry ppmEntry() {
   return IntegratorEntry(
       "ppm", "progressive photon mapping (Hachisuka et al. 2008): fixed hit points, shrinking radii",
       IntegratorFamily::Pass, nullptr,
-      progressiveParams(),
+      progressiveParams(false),
       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPMIntegrator>(progressiveOptions(p)); },
       resolveProgressiveRadius);
 }

@@ -28,7 +28,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
 
   auto pass = [&](int p) {
     advanceTo(p);
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
@@ -75,7 +75,7 @@ IntegratorEntry pppmEntry() {
   return IntegratorEntry(
       "pppm", "probabilistic progressive photon mapping (Knaus & Zwicker 2011): independent passes, global radius schedule",
       IntegratorFamily::Pass, "passes",
-      progressiveParams(),
+      progressiveParams(true),
       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<PPPMIntegrator>(progressiveOptions(p)); },
       resolveProgressiveRadius);
 }

@@ -7,14 +7,15 @@
 
 namespace pl {
 
-std::vector<ParamSpec> progressiveParams() {
-  return {params::passes(), params::photonsPerPass(), params::alpha(), params::progressiveRadius(), params::maxDepth()};
+std::vector<ParamSpec> progressiveParams(bool photonsPerPixel) {
+  return {params::passes(), params::photonsPerPass(photonsPerPixel ? "" : "100000"), params::alpha(),
+          params::progressiveRadius(), params::maxDepth()};
 }
 
 ProgressiveOptions progressiveOptions(const ParamSet& p) {
   ProgressiveOptions o;
   o.passes = p.isSet("passes") ? int(p.integer("passes")) : INT32_MAX;
-  o.photonsPerPass = uint64_t(p.integer("photons_per_pass"));
+  o.photonsPerPass = p.isSet("photons_per_pass") ? uint64_t(p.integer("photons_per_pass")) : 0;
   o.alpha = p.real("alpha");
   o.radius = float(p.real("radius"));
   o.maxDepth = int(p.integer("max_depth"));
@@ -22,11 +23,17 @@ ProgressiveOptions progressiveOptions(const ParamSet& p) {
 }
 
 std::string resolveProgressiveRadius(const Scene& scene, int width, int height, ParamSet& params) {
-  if (params.isSet("radius")) return "initial radius " + formatNumber(float(params.real("radius"))) + " m";
+  std::string photons;
+  if (!params.isSet("photons_per_pass")) {
+    const uint64_t n = defaultPhotonsPerPass(width, height);
+    params.resolve("photons_per_pass", double(n));
+    photons = "; " + std::to_string(n) + " photons per pass (default: the pixel count)";
+  }
+  if (params.isSet("radius")) return "initial radius " + formatNumber(float(params.real("radius"))) + " m" + photons;
   DefaultRadius r = defaultRadius(scene, width, height);
   params.resolve("radius", r.radius);
   return "initial radius " + formatNumber(r.radius) + " m (default: " + formatNumber(DefaultRadius::kFootprints) +
-         " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)";
+         " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)" + photons;
 }
 
 Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp) {
@@ -144,6 +151,7 @@ PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const Progress
     : RenderSession(scene, io, 2 * (sizeof(VisiblePoint) + sizeof(ProgressiveStats)) + 6 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t),
                     "progressive image") {
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
+  photonsPerPass = o.photonsPerPass > 0 ? o.photonsPerPass : defaultPhotonsPerPass(width, height);
   passes.assign(pixels, 0);
 }
 

@@ -42,12 +42,12 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       }
     });
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, o.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
     if (!maps.complete) return false;
     // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
-    const double n = double(o.photonsPerPass);
+    const double n = double(setup.photonsPerPass);
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
@@ -65,7 +65,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     for (size_t i = 0; i < pixels; ++i) {
       if (passes[i] == 0) continue;
       double n = double(passes[i]);
-      const double emitted = n * o.photonsPerPass;
+      const double emitted = n * setup.photonsPerPass;
       img.set(int(i % W), int(i / W), Spectrum(directSum[i] / n + stats[i].radiance(emitted) + causticStats[i].radiance(emitted)));
     }
     return img;
@@ -77,7 +77,7 @@ IntegratorEntry sppmEntry() {
   return IntegratorEntry(
       "sppm", "stochastic progressive photon mapping (Hachisuka & Jensen 2009): new visible points every pass",
       IntegratorFamily::Pass, nullptr,
-      progressiveParams(),
+      progressiveParams(true),
       [](const ParamSet& p, const RenderOptions&) { return std::make_unique<SPPMIntegrator>(progressiveOptions(p)); },
       resolveProgressiveRadius);
 }
