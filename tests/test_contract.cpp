@@ -235,9 +235,10 @@ ClosedFormAgreement agreement(const ImageRGB& a, const ImageRGB& b, const ImageR
 // resolution and blur E by ~0.7%), and every pixel's |z| at the 99th percentile below 4.5 (3.25
 // would be t₉'s; the neighbourhood's noise is uneven). A 2% bias fails it: PPM did, before the
 // floor was wide enough for its radius.
-void checkClosedForm(const IntegratorEntry& entry, const ClosedForm& form) {
-  INFO(entry.name << " on " << form.name);
+void checkClosedForm(const IntegratorEntry& entry, const ClosedForm& form, const std::string& photonTarget = "") {
+  INFO(entry.name << " on " << form.name << (photonTarget.empty() ? "" : ", photon target " + photonTarget));
   ParamSet p = entry.defaults();
+  if (!photonTarget.empty()) p.setText("photon_target", photonTarget);
   std::vector<std::string> refinement = entry.refinement;
   if (refinement.empty()) refinement.push_back(entry.budgetParam()->name);
   if (const ParamSpec* budget = entry.budgetParam()) p.setNumber(budget->name, 4);
@@ -498,6 +499,9 @@ TEST_CASE("contract: every integrator of radiance renders a lit floor's ρ/π·E
       if (e->converges == Converges::kOther || !(e->carries & lightTypeBit(kind))) continue;
       checkClosedForm(*e, form);
       ++judged;
+      // The photons of a sky and the sun, aimed at the view by default: over the scene's disc too.
+      if (e->defaults().has("photon_target") && (kind == LightType::kDeltaDirection || kind == LightType::kInfinite))
+        checkClosedForm(*e, form, "scene");
     }
   }
   CHECK(judged >= 4 * 12);

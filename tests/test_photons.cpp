@@ -7,6 +7,8 @@
 #include "core/sampling.h"
 #include "integrators/photon.h"
 #include "integrators/registry.h"
+#include "lights/directional_light.h"
+#include "lights/environment_light.h"
 #include "lights/point_light.h"
 #include "lights/warn_spotlight.h"
 #include "render/renderer.h"
@@ -464,4 +466,52 @@ TEST_CASE("debug images: photon count and gather radius") {
   for (float v : r.data) REQUIRE((v >= 0.0f && v <= maxRadius * 1.0001f));
   CHECK(r.at(4, 4).g > 0.0f);
   CHECK(r.at(4, 4).g < maxRadius);
+}
+
+TEST_CASE("targeted emission: the flux through a disc is E·cosθ·area inside the target and outside it - the sun and a constant sky") {
+  // A 1 m plate at the origin and a 20 m floor 20 m below: the scene's sphere has R ≈ 17.3 m,
+  // the target is the unit sphere at the origin, q = 1/2. Half the photons start on the target's
+  // disc (a density ~150× the scene disc's), the rest on the scene's; each carries
+  // Φ/(pick·N)·p_uniform/p_mixture. The flux crossing the plane y = 0 downwards through a disc
+  // must be E·|cosθ|·A for the sun and π·L·A for the sky, through a disc inside the target
+  // (D1: r = 0.5 m at the origin) as through one the target does not reach (D2: r = 2 m at
+  // x = 8 m, where only the uniform half lands, at twice the weight). Each sum is checked
+  // within 4 of its standard errors, computed from the photons' contributions.
+  const float E = 2.0f, L = 0.7f;
+  const Vec3 w = glm::normalize(Vec3(0.3f, -1.0f, 0.2f));
+  for (int sky = 0; sky < 2; ++sky) {
+    Scene scene;
+    addQuad(scene, {-0.5f, 0, -0.5f}, {-0.5f, 0, 0.5f}, {0.5f, 0, 0.5f}, {0.5f, 0, -0.5f}, lambertian(scene, 0.5f));
+    addQuad(scene, {-10, -20, -10}, {-10, -20, 10}, {10, -20, 10}, {10, -20, -10}, lambertian(scene, 0.5f));
+    if (sky) scene.addLight(EnvironmentLight::constant(Spectrum(L)));
+    else scene.addLight(std::make_unique<DirectionalLight>(w, Spectrum(E)));
+    scene.commit();
+    INFO((sky ? "constant sky" : "sun") << ", scene radius " << scene.bounds().radius());
+    EmissionTarget target;
+    target.center = Vec3(0.0f);
+    target.radius = 1.0f;
+    struct Disc {
+      Vec3 centre;
+      float radius;
+      double sum = 0, sum2 = 0;
+    };
+    Disc discs[2] = {{Vec3(0.0f), 0.5f}, {Vec3(8, 0, 0), 2.0f}};
+    const uint64_t N = 400000;
+    for (uint64_t i = 0; i < N; ++i) {
+      Rng rng(0);
+      EmittedRay e = emitPhoton(scene, 7, i, N, 0, &rng, false, nullptr, &target);
+      if (!(e.ray.d.y < 0)) continue;
+      const Vec3 p = e.ray.o + (-e.ray.o.y / e.ray.d.y) * e.ray.d;
+      for (Disc& d : discs)
+        if (glm::length(p - d.centre) < d.radius) d.sum += e.flux.g, d.sum2 += double(e.flux.g) * e.flux.g;
+    }
+    for (const Disc& d : discs) {
+      const double area = kPi * d.radius * d.radius;
+      const double expected = sky ? kPi * L * area : E * std::abs(w.y) * area;
+      const double se = std::sqrt(std::max(d.sum2 - d.sum * d.sum / N, 0.0));  // √(N·Var) of the sum
+      INFO("disc at x = " << d.centre.x << ": " << d.sum << " against " << expected << " (standard error " << se << ")");
+      CHECK(se < 0.05 * expected);
+      CHECK(std::abs(d.sum - expected) < 4 * se);
+    }
+  }
 }

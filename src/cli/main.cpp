@@ -272,10 +272,13 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
     work = buf;
   }
   std::string budget = s.image.timeLimit > 0 ? " of a " + formatNumber(s.image.timeLimit) + " s budget" : "";
+  // Hachisuka & Jensen's visibility: how many of the photons were of use to this view.
+  const std::string visibility =
+      info.visibleFraction >= 0 ? ", " + percentText(info.visibleFraction) + " of the usable photons near a visible point" : "";
   if (progressive)
-    std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, %s, mean radius at the end %g m -> %s\n",
+    std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, %s, mean radius at the end %g m%s -> %s\n",
                  s.integrator.c_str(), s.image.width, s.image.height, work.c_str(), (unsigned long long)info.photons,
-                 info.seconds, budget.c_str(), radius.c_str(), info.meanRadius, outputs.front().c_str());
+                 info.seconds, budget.c_str(), radius.c_str(), info.meanRadius, visibility.c_str(), outputs.front().c_str());
   else
     std::fprintf(stderr, "%s: %dx%d, %s, %.2f s%s%s -> %s\n", s.integrator.c_str(), s.image.width, s.image.height,
                  work.c_str(), info.seconds, budget.c_str(),
@@ -405,7 +408,7 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   // What differs between slices of one render: their own work, time and range; everything
   // else (scene, integrator, every parameter, seed, size, spectral, build) must agree.
   std::set<std::string> own = {"seconds", "range_begin", "range_end", "range_step", "spp", "passes", "mean_spp", "mean_passes",
-                               "photons", "mean_radius", "time_up", "merged_slices"};
+                               "photons", "mean_radius", "time_up", "merged_slices", "visible_photons"};
   const Part& first = parts.front();
   // "radius" is the radius reached (per slice) unless the integrator declares it as a parameter.
   const IntegratorEntry* entry = first.meta.count("integrator") ? findIntegrator(first.meta.at("integrator")) : nullptr;
@@ -452,12 +455,17 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   merged.begin = lo, merged.end = hi, merged.step = 1;
   double seconds = 0;
   uint64_t photons = 0;
+  double visible = 0;  // Σ visible_photons × photons: the slices' visibility weighted by their photon paths
   int slices = 0;  // the original slices, through merges of merges
   for (size_t i = 0; i < parts.size(); ++i) {
     const RenderSlice& s = parts[i].slice;
     slices += parts[i].meta.count("merged_slices") ? std::stoi(parts[i].meta.at("merged_slices")) : 1;
     seconds += std::stod(parts[i].meta.count("seconds") ? parts[i].meta.at("seconds") : "0");
-    if (parts[i].meta.count("photons")) photons += std::stoull(parts[i].meta.at("photons"));
+    if (parts[i].meta.count("photons")) {
+      photons += std::stoull(parts[i].meta.at("photons"));
+      if (parts[i].meta.count("visible_photons"))
+        visible += std::stod(parts[i].meta.at("visible_photons")) * std::stod(parts[i].meta.at("photons"));
+    }
     if (i == 0) continue;
     if (s.sums.size() != merged.sums.size() || s.splats.size() != merged.splats.size() || s.counts.size() != merged.counts.size())
       throw Error(parts[i].path + ": not a slice of the same render as " + parts.front().path + " (its sums differ in kind or size)");
@@ -470,6 +478,7 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   meta["seconds"] = formatNumber(seconds);
   meta[unit == "passes" ? "passes" : "spp"] = std::to_string(merged.end - merged.begin);
   if (photons) meta["photons"] = std::to_string(photons);
+  if (photons && meta.count("visible_photons")) meta["visible_photons"] = formatNumber(visible / double(photons));
   meta["merged_slices"] = std::to_string(slices);
   if (partialOutput) writeSlice(output, merged, meta);
   else {

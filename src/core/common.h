@@ -71,6 +71,13 @@ inline std::string formatNumber(double v) {
   return buf;
 }
 
+// A fraction as people read it: 0.4854 → "48.5%".
+inline std::string percentText(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f%%", 100.0 * fraction);
+  return buf;
+}
+
 struct Ray {
   Vec3 o, d;  // d is unit length
   float tmin = 0.0f, tmax = INFINITY;

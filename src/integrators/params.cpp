@@ -158,6 +158,13 @@ ParamSpec alpha() {
   return s;
 }
 
+ParamSpec photonTarget() {
+  return choice("photon_target",
+                "where photons from a sky or the sun start: view: half of them on the disc covering what the camera sees, the rest "
+                "on the scene's (flux weighted by the mixture's density: unbiased); scene: all on the scene's disc",
+                "view", {"view", "scene"});
+}
+
 ParamSpec progressiveRadius() {
   ParamSpec s{"radius", ParamType::Real, "initial gather radius in metres"};
   s.defaultDoc = "5 pixel footprints at the median visible distance";

@@ -18,6 +18,8 @@ void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads
   t.maxDepth = o_.maxDepth;
   t.spectral = o_.spectral;
   t.budget = &budget;
+  if (o_.targetView && o_.width > 0 && o_.height > 0)
+    t.target = visibleEmissionTarget(scene, o_.width, o_.height, o_.density.radius > 0 ? o_.density.radius : o_.density.maxRadius);
   maps_ = tracePhotons(scene, t);
   if (!maps_.complete) {
     // The render loop sees the same expired budget and takes no sample.
@@ -152,6 +154,8 @@ PhotonOptions photonOptions(const ParamSet& p, const RenderOptions& image) {
   o.finalGather = int(p.integer("final_gather"));
   o.aov = p.choice("aov") == "radiance" ? "" : p.choice("aov");
   o.spectral = image.spectral;
+  o.targetView = p.choice("photon_target") != "scene";
+  o.width = image.width, o.height = image.height;
   return o;
 }
 
@@ -175,7 +179,7 @@ std::vector<ParamSpec> photonParams() {
   gather.lo = 0, gather.hi = 100000;
   ParamSpec aov = params::choice("aov", "debug image instead of radiance: photons found, or the radius used", "radiance",
                                  {"radiance", "photons", "radius"});
-  return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov};
+  return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov, params::photonTarget()};
 }
 
 // The estimate's defaults made explicit (resolveDensity), so that the metadata records them.

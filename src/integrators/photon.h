@@ -13,6 +13,8 @@ struct PhotonOptions {
   int finalGather = 32;              // gather rays per first diffuse hit; 0 = direct visualisation
   std::string aov;                   // "" (radiance), "photons" or "radius"
   bool spectral = false;             // photons carry wavelengths (with RenderOptions::spectral)
+  bool targetView = true;       // --photon-target view: sky and sun photons aimed at the view
+  int width = 0, height = 0;         // the image, for the view's target
 };
 
 // Jensen's two-pass photon mapping. Pass 1 (preprocess) traces the global and caustic maps.

@@ -35,16 +35,18 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
+    PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(setup.photonsPerPass), o.alpha, &stats[i]);
+        gatherPhotons(hitPoints[i], maps.global, Photon::kAcceptAll, double(setup.photonsPerPass), o.alpha, &stats[i], &marks);
         ++passes[i];
       }
     });
+    setup.countVisibility(maps.global, Photon::kAcceptAll, marks);
     return true;
   };
   auto image = [&] {

@@ -28,13 +28,14 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
 
   auto pass = [&](int p) {
     advanceTo(p);
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
     de.planeTolerance = 0.25f * de.radius;
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: estimateDirectMIS
+    PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
@@ -46,13 +47,16 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         VisiblePoint vp, caustic;
         Spectrum L = traceGatherPoints(scene, ray, lambda, rng, o.maxDepth, &vp, &caustic);
         // The maps' radiance is uplifted on a spectral path.
-        if (vp.valid) L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept);
-        if (caustic.valid) L += caustic.beta * maps.global.radiance(caustic.hit, caustic.wo, lambda, de, Photon::kAcceptCaustic);
+        GatherStats marking;
+        marking.marks = &marks;
+        if (vp.valid) L += vp.beta * maps.global.radiance(vp.hit, vp.wo, lambda, de, accept, &marking);
+        if (caustic.valid) L += caustic.beta * maps.global.radiance(caustic.hit, caustic.wo, lambda, de, Photon::kAcceptCaustic, &marking);
         if (ro.spectral) L = spectralToRGB(L, lambda.lambda);
         if (isFinite(L)) sum[i * 3].add(L.r), sum[i * 3 + 1].add(L.g), sum[i * 3 + 2].add(L.b);  // non-finite: dropped
         ++passes[i];
       }
     });
+    setup.countVisibility(maps.global, accept, marks);
     lastRadius = de.radius;
     return true;
   };

@@ -9,7 +9,7 @@ namespace pl {
 
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel) {
   return {params::passes(), params::photonsPerPass(photonsPerPixel ? "" : "100000"), params::alpha(),
-          params::progressiveRadius(), params::maxDepth()};
+          params::progressiveRadius(), params::maxDepth(), params::photonTarget()};
 }
 
 ProgressiveOptions progressiveOptions(const ParamSet& p) {
@@ -19,6 +19,7 @@ ProgressiveOptions progressiveOptions(const ParamSet& p) {
   o.alpha = p.real("alpha");
   o.radius = float(p.real("radius"));
   o.maxDepth = int(p.integer("max_depth"));
+  o.targetView = p.choice("photon_target") != "scene";
   return o;
 }
 
@@ -117,7 +118,7 @@ Spectrum traceGatherPoints(const Scene& scene, Ray ray, SampledWavelengths& lamb
 }
 
 void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept, double photonsPerPass, double alpha,
-                   ProgressiveStats* stats) {
+                   ProgressiveStats* stats, PhotonMarks* marks) {
   if (!vp.valid) return;
   thread_local std::vector<Neighbour> found;
   float R = float(std::sqrt(stats->R2));
@@ -128,6 +129,8 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
   const bool shadingDiffers = vp.hit.shadingDiffers();
   const Vec3 ngLocal = vp.hit.shading.toLocal(vp.hit.ng);
   glm::dvec3 phi(0.0);
+  if (marks)
+    for (const Neighbour& nb : found) marks->mark(nb.index);
   for (const Neighbour& nb : found) {
     const Photon& ph = map.photons()[nb.index];
     const Vec3 wi = vp.hit.shading.toLocal(ph.wi());
@@ -152,6 +155,11 @@ PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const Progress
                     "progressive image") {
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
   photonsPerPass = o.photonsPerPass > 0 ? o.photonsPerPass : defaultPhotonsPerPass(width, height);
+  if (o.targetView) target = visibleEmissionTarget(scene, width, height, initialRadius);
+  progressNote = [this] {
+    const double f = visibleFraction();
+    return f >= 0 ? "  photons near the view " + percentText(f) : std::string();
+  };
   passes.assign(pixels, 0);
 }
 
@@ -171,7 +179,7 @@ void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp)
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral, const Budget* budget) {
+                            bool spectral, const Budget* budget, const EmissionTarget& target) {
   PhotonTracingOptions o;
   o.globalPaths = photons;
   o.causticPaths = 0;
@@ -180,6 +188,7 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
   o.maxDepth = maxDepth;
   o.spectral = spectral;
   o.budget = budget;
+  o.target = target;
   return tracePhotons(scene, o);
 }
 

@@ -23,10 +23,11 @@ struct ProgressiveOptions {
   double alpha = 2.0 / 3.0;          // fraction of new photons kept; 2/3 minimises the MSE
   float radius = 0.0f;               // initial radius; 0 = defaultRadius()
   int maxDepth = 64;
+  bool targetView = true;  // --photon-target view: photons from lights at infinity aimed at the view
 };
-// What the three declare: passes, photons_per_pass, alpha, radius, max_depth. photonsPerPixel:
-// photons_per_pass defaults to the pixel count (sppm and pppm, which re-trace their eye pass
-// every pass), else to 100,000 (ppm, whose hit points are traced once).
+// What the three declare: passes, photons_per_pass, alpha, radius, max_depth, photon_sampling.
+// photonsPerPixel: photons_per_pass defaults to the pixel count (sppm and pppm, which re-trace
+// their eye pass every pass), else to 100,000 (ppm, whose hit points are traced once).
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel);
 // From those parameters; passes unset (a time budget alone): unlimited.
 ProgressiveOptions progressiveOptions(const ParamSet& p);
@@ -100,8 +101,9 @@ bool narrowLobe(const SurfaceHit& hit, const Vec3& woLocal, const SampledWavelen
 // One photon pass's contribution at a visible point: the M photons of `accepted` path types
 // inside the statistics' radius (same side, near the tangent plane) and their flux
 // Φ_M = Σ β f(ωo, ωp) Φp (unnormalised by the pass's photon count), then the PPM update.
+// With `marks`, the photons found are marked there.
 void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept, double photonsPerPass, double alpha,
-                   ProgressiveStats* stats);
+                   ProgressiveStats* stats, PhotonMarks* marks = nullptr);
 double meanRadius(const std::vector<ProgressiveStats>& stats);
 
 // SPPM's and PPPM's photons per pass when unset: the image's pixel count, as pbrt-v4's SPPM. An
@@ -123,6 +125,15 @@ struct PassSetup : RenderSession {
   const RenderOptions& image = options();  // resolution resolved
   float initialRadius;  // options.radius, or defaultRadius()
   uint64_t photonsPerPass;  // options.photonsPerPass, or the pixel count (defaultPhotonsPerPass)
+  EmissionTarget target;    // with targetView: visibleEmissionTarget(), margin initialRadius
+  // The visibility ratio (Hachisuka & Jensen 2011): of the photons the passes stored that a
+  // gather could use (their path type accepted), the fraction some gather found.
+  uint64_t photonsUsable = 0, photonsFound = 0;
+  void countVisibility(const PhotonMap& map, uint8_t accept, const PhotonMarks& marks) {
+    photonsUsable += map.count(accept);
+    photonsFound += marks.count();
+  }
+  double visibleFraction() const { return photonsUsable ? double(photonsFound) / double(photonsUsable) : -1.0; }
   // Passes each pixel has completed: equal, except that a pass the budget cut short during its
   // gathers reached only some pixels, each pixel's estimate using its own count.
   std::vector<uint32_t> passes;
@@ -131,7 +142,7 @@ struct PassSetup : RenderSession {
 // Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass). When the
 // budget expires on the way, the maps come back incomplete (and empty): the pass is dropped.
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral, const Budget* budget);
+                            bool spectral, const Budget* budget, const EmissionTarget& target);
 
 // The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0).
 inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
@@ -159,6 +170,7 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     pi.meanWork = counts.mean;
     pi.photons = tracedPasses * setup.photonsPerPass;
     pi.meanRadius = meanRadius();
+    pi.visibleFraction = setup.visibleFraction();
     return pi;
   };
   auto runPass = [&](int p) {  // 0-based unit p is pass p + 1

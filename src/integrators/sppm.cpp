@@ -42,22 +42,24 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       }
     });
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
     if (!maps.complete) return false;
     // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
     const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
     const double n = double(setup.photonsPerPass);
+    PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        gatherPhotons(visible[i], maps.global, accept, n, o.alpha, &stats[i]);
-        gatherPhotons(causticPoints[i], maps.global, Photon::kAcceptCaustic, n, o.alpha, &causticStats[i]);
+        gatherPhotons(visible[i], maps.global, accept, n, o.alpha, &stats[i], &marks);
+        gatherPhotons(causticPoints[i], maps.global, Photon::kAcceptCaustic, n, o.alpha, &causticStats[i], &marks);
         directSum[i] += passDirect[i];
         ++passes[i];
       }
     });
+    setup.countVisibility(maps.global, accept, marks);
     return true;
   };
   auto image = [&] {

@@ -306,8 +306,16 @@ Spectrum PhotonMap::estimate(const Vec3& x, const Vec3& n, const DensityEstimati
   if (stats) {
     stats->photons = int(used);
     stats->radius = std::sqrt(r2);
+    if (stats->marks)
+      for (size_t i = 0; i < used; ++i) stats->marks->mark(neighbours[i].index);
   }
   return sum;
+}
+
+size_t PhotonMap::count(uint8_t accept) const {
+  size_t n = 0;
+  for (const Photon& p : photons()) n += (accept >> p.type()) & 1;
+  return n;
 }
 
 Spectrum PhotonMap::xyzFluxToRGB(const Vec3& xyz) { return spectralXYZToRGB(xyz); }

@@ -3,6 +3,7 @@
 // (no extra cosine: the photon's flux already carries it). Photons that arrived at the other
 // side of the surface are rejected inside the search, so they never shrink a k-NN radius.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -18,9 +19,29 @@ struct Neighbour {
   float d2;
 };
 
+// One flag per photon of a map, set by the gathers that find it (from any thread): how many of
+// a pass's photons landed near a visible point, the visibility Hachisuka & Jensen (2011) plot.
+class PhotonMarks {
+ public:
+  explicit PhotonMarks(size_t n) : flags_(new std::atomic<uint8_t>[n]), n_(n) {
+    for (size_t i = 0; i < n; ++i) flags_[i].store(0, std::memory_order_relaxed);
+  }
+  void mark(size_t i) { flags_[i].store(1, std::memory_order_relaxed); }
+  size_t count() const {
+    size_t c = 0;
+    for (size_t i = 0; i < n_; ++i) c += flags_[i].load(std::memory_order_relaxed);
+    return c;
+  }
+
+ private:
+  std::unique_ptr<std::atomic<uint8_t>[]> flags_;
+  size_t n_;
+};
+
 struct GatherStats {
   int photons = 0;   // photons that contributed
   float radius = 0;  // gather radius used
+  PhotonMarks* marks = nullptr;  // given: the photons used are marked in it
 };
 
 class PhotonMap {
@@ -49,6 +70,8 @@ class PhotonMap {
 
   // Neighbours of x whose incident direction lies on the side of `n` (dot(wi, n) > 0; pass a
   // zero vector to accept every side) and whose path type is in `accept` (Photon::kAccept*).
+  // How many stored photons have a type in `accept` (Photon::kAccept*).
+  size_t count(uint8_t accept) const;
   // knn: the k nearest within maxRadius (0 = unbounded), sorted by distance.
   // planeTolerance > 0 (needs a non-zero n): skip photons farther than it from x's tangent plane.
   // bothSides: photons from either side of n (a surface whose BSDF has a smooth transmission lobe: hasSmoothTransmission).
@@ -65,8 +88,8 @@ class PhotonMap {
   // a spectral path, handed back at its wavelengths (an illuminant-type uplift: the film maps it
   // back to the same RGB).
   Spectrum radiance(const SurfaceHit& hit, const Vec3& woWorld, const SampledWavelengths& lambda,
-                    const DensityEstimation& de, uint8_t accept) const {
-    return spectralEmission(radiance(hit, woWorld, de, accept), lambda);
+                    const DensityEstimation& de, uint8_t accept, GatherStats* stats = nullptr) const {
+    return spectralEmission(radiance(hit, woWorld, de, accept, stats), lambda);
   }
   // In RGB.
   Spectrum radiance(const SurfaceHit& hit, const Vec3& woWorld, const DensityEstimation& de, uint8_t accept,

@@ -3,9 +3,11 @@
 #include <atomic>
 #include <chrono>
 
+#include "core/frame.h"
 #include "core/memory.h"
 #include "core/parallel.h"
 #include "core/roulette.h"
+#include "core/sampling.h"
 #include "spectral/spectral.h"
 #include "transport/light_walk.h"
 
@@ -22,7 +24,8 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
                std::vector<Photon>* out) {
   Rng rng(0);
   SampledWavelengths lambda;
-  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda);
+  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda,
+                            o.target.active() ? &o.target : nullptr);
   if (isBlack(e.flux) || !isFinite(e.flux)) return;
   struct Walker {
     const PhotonTracingOptions& o;
@@ -116,8 +119,35 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
 
 }  // namespace
 
+void retargetEmission(const Scene& scene, const EmissionTarget& target, float uPick, const Vec2& uDisc, EmittedRay* e) {
+  // The lights at infinity emit from the plane one scene radius R before the scene's centre c,
+  // perpendicular to the travel direction w, over the disc of radius R around c − wR
+  // (lights/environment_light.cpp, directional_light.cpp; both preprocessed with these c, R).
+  const Vec3 w = e->ray.d;
+  const Vec3 c = scene.bounds().center();
+  const float R = std::max(scene.bounds().radius(), 1e-3f);
+  const Vec3 sceneDisc = c - w * R;
+  const Vec3 targetDisc = target.center - w * glm::dot(target.center - sceneDisc, w);  // projected onto the plane
+  const float q = target.fraction, r = target.radius;
+  Vec3 y = e->ray.o;
+  if (uPick < q) {
+    const Frame frame(w);
+    const Vec2 d = sampleConcentricDisc(uDisc) * r;
+    y = targetDisc + frame.s * d.x + frame.t * d.y;
+  }
+  auto inside = [](const Vec3& p, const Vec3& centre, float radius) {
+    const Vec3 v = p - centre;
+    return glm::dot(v, v) <= radius * radius * 1.0001f;  // the light's own samples lie on the rim up to rounding
+  };
+  const float pdf = (inside(y, targetDisc, r) ? q / (kPi * r * r) : 0.0f) + (inside(y, sceneDisc, R) ? (1 - q) / (kPi * R * R) : 0.0f);
+  // pdf > 0: y was drawn from one of the two discs.
+  e->flux *= (1.0f / (kPi * R * R)) / pdf;
+  e->ray.o = y;
+  e->pdfPos = pdf;
+}
+
 EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
-                      bool spectral, SampledWavelengths* lambda) {
+                      bool spectral, SampledWavelengths* lambda, const EmissionTarget* target) {
   *rng = Rng::hashed(mix64(seed ^ (stream << 32) ^ stream), index);  // photon i's stream: (seed, map, i)
   SampledWavelengths own;
   if (!lambda) lambda = &own;
@@ -125,6 +155,10 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
   StreamDraws draws{*rng};
   LightEmission emitted = emitLight(scene, draws, *lambda);
   if (!emitted.light) return emitted.e;
+  if (target && (emitted.light->isInfinite() || emitted.light->isDeltaDirection())) {
+    const float uPick = draws.get1D();
+    retargetEmission(scene, *target, uPick, draws.get2D(), &emitted.e);
+  }
   emitted.e.flux *= 1.0f / (emitted.pick * float(count));  // one division, not three
   return emitted.e;
 }

@@ -5,6 +5,7 @@
 
 #include <climits>
 #include <cstdio>
+#include <string>
 
 #include "core/budget.h"
 #include "render/render_options.h"
@@ -21,14 +22,15 @@ class Progress {
  public:
   Progress(const RenderOptions& options, int target)
       : enabled_(options.progress && isatty(STDERR_FILENO)), target_(target), timeLimit_(options.timeLimit) {}
-  void update(int done, double elapsed) {
+  // `note`: what the loop adds after the ETA (e.g. the photons' visibility).
+  void update(int done, double elapsed, const std::string& note = "") {
     const double fraction = target_ < INT_MAX ? double(done) / target_ : std::min(1.0, elapsed / timeLimit_);
     if (!enabled_ || (elapsed - last_ < 0.1 && fraction < 1)) return;
     last_ = elapsed;
     int width = 40, filled = int(fraction * width);
     double eta = fraction > 0 ? elapsed * (1 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %6.1fs  ETA %6.1fs", filled, "########################################",
-                 width - filled, "", 100 * fraction, elapsed, eta);
+    std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %6.1fs  ETA %6.1fs%s", filled, "########################################",
+                 width - filled, "", 100 * fraction, elapsed, eta, note.c_str());
     std::fflush(stderr);
   }
   ~Progress() {

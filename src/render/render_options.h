@@ -106,6 +106,7 @@ struct RenderInfo {
   uint64_t photons = 0;    // photon (or light) paths emitted so far
   double seconds = 0.0;    // the time actually spent (preprocessing included, checkpoints excluded)
   double meanRadius = 0.0; // mean gather radius (photon-mapping integrators), 0 otherwise
+  double visibleFraction = -1.0;  // of the usable photons stored, the fraction a gather found; −1: not measured
   uint64_t nonFiniteSamples = 0;  // discarded (counted as zero)
   bool interrupted = false;       // stopped early by SIGINT/SIGTERM (see core/interrupt.h)
   bool timeUp = false;            // stopped because the time budget was spent

@@ -8,6 +8,7 @@
 // progressive passes (integrators/progressive.h) and the bidirectional iterations
 // (integrators/bidirectional.cpp).
 #pragma once
+#include <functional>
 #include <string>
 
 #include "core/budget.h"
@@ -63,7 +64,7 @@ class RenderSession {
     for (int u = range.first; u < range.end && !budget.expired(); u += range.step) {
       if (!unit(u)) break;
       ++done;
-      progress.update(done, budget.elapsed());
+      progress.update(done, budget.elapsed(), progressNote ? progressNote() : std::string());
       const bool last = int64_t(u) + range.step >= range.end || budget.expired();
       checkpoints.after(done, last, info, image);
       if (last) break;
@@ -74,6 +75,7 @@ class RenderSession {
   }
 
   Budget budget;  // polled by the loops between small units of work (a pixel, a chunk of paths)
+  std::function<std::string()> progressNote;  // set by a loop that has more to say on the progress bar
   int width = 0, height = 0, threads = 1;
   size_t pixels = 0;
 

@@ -34,6 +34,19 @@ std::vector<ProbePoint> probeVisiblePoints(const Scene& scene, int width, int he
   return points;
 }
 
+EmissionTarget visibleEmissionTarget(const Scene& scene, int width, int height, float margin) {
+  const std::vector<ProbePoint> points = probeVisiblePoints(scene, width, height, 64);
+  EmissionTarget target;
+  if (points.empty()) return target;
+  Vec3 lo(INFINITY), hi(-INFINITY);
+  for (const ProbePoint& p : points) lo = glm::min(lo, p.hit.p), hi = glm::max(hi, p.hit.p);
+  const float radius = 1.1f * 0.5f * glm::length(hi - lo) + margin;
+  if (radius >= 0.9f * scene.bounds().radius()) return target;  // aiming would gain nothing
+  target.center = 0.5f * (lo + hi);
+  target.radius = radius;
+  return target;
+}
+
 DefaultRadius defaultRadius(const Scene& scene, int width, int height) {
   // The distances at which the camera sees the surfaces photons are gathered on.
   const Camera& c = scene.camera();

@@ -5,6 +5,7 @@
 #pragma once
 #include <vector>
 
+#include "photon/photon_tracer.h"
 #include "scene/scene.h"
 
 namespace pl {
@@ -32,5 +33,11 @@ struct DefaultRadius {
   size_t visiblePoints = 0;  // of the 1024 rays, how many found a diffuse or glossy point
 };
 DefaultRadius defaultRadius(const Scene& scene, int width, int height);
+
+// --photon-target view's target: the sphere around what the camera sees, the bounding box
+// of a 64×64 probe's points grown by `margin` (a gather radius: photons that far from a visible
+// point still count) and by a tenth for what falls between the probe's rays. No target (radius
+// 0) when nothing diffuse or glossy is in view, or when the sphere is nearly the scene's.
+EmissionTarget visibleEmissionTarget(const Scene& scene, int width, int height, float margin);
 
 }  // namespace pl
