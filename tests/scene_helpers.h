@@ -33,6 +33,21 @@ inline Camera lookingDown(float height, float yfov = 0.8f) {
   return cam;
 }
 
+// The open room of the glossy-floor tests (floor y = 0 and walls within [−1, 1]², 2 m high): a
+// 0.6 m emitter facing down just under the ceiling, and a camera looking in from the open side.
+inline void addRoomLight(Scene& scene, uint32_t light) {
+  addQuad(scene, {-0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, 0.3f}, {-0.3f, 1.9f, 0.3f}, light);
+}
+inline Camera roomCamera() {
+  Camera cam;
+  cam.position = Vec3(0.4f, 1.0f, 2.2f);
+  cam.forward = glm::normalize(Vec3(-0.3f, -0.45f, -1.0f));
+  cam.right = glm::normalize(glm::cross(cam.forward, Vec3(0, 1, 0)));
+  cam.up = glm::cross(cam.right, cam.forward);
+  cam.yfov = 0.9f;
+  return cam;
+}
+
 // Radiance L(ray) along each pixel's camera rays, averaged over the pixel (box filter) on a
 // grid×grid midpoint rule.
 inline ImageRGB expectedImage(const Scene& scene, int W, int H, const std::function<double(const Ray&)>& L, int grid = 6) {

@@ -320,14 +320,8 @@ TEST_CASE("bdpt and vcm agree with the path tracer on glossy surfaces - the glos
   addQuad(scene, {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, floor);
   addQuad(scene, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, metal);
   addQuad(scene, {-1, 0, 1}, {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, wall);
-  addQuad(scene, {-0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, 0.3f}, {-0.3f, 1.9f, 0.3f}, light);  // faces down
-  Camera cam;
-  cam.position = Vec3(0.4f, 1.0f, 2.2f);
-  cam.forward = glm::normalize(Vec3(-0.3f, -0.45f, -1.0f));
-  cam.right = glm::normalize(glm::cross(cam.forward, Vec3(0, 1, 0)));
-  cam.up = glm::cross(cam.right, cam.forward);
-  cam.yfov = 0.9f;
-  scene.setCamera(cam);
+  addRoomLight(scene, light);
+  scene.setCamera(roomCamera());
   scene.commit();
   const int W = 32;
   ImageRGB p1 = renderWith(scene, "path", W, W, 256, 1), p2 = renderWith(scene, "path", W, W, 256, 2);

@@ -354,14 +354,8 @@ TEST_CASE("sppm and pppm through a narrow glossy floor agree with the path trace
   addQuad(scene, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
   addQuad(scene, {-1, 0, 1}, {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, white);
   addQuad(scene, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, white);
-  addQuad(scene, {-0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, -0.3f}, {0.3f, 1.9f, 0.3f}, {-0.3f, 1.9f, 0.3f}, light);  // faces down
-  Camera cam;
-  cam.position = Vec3(0.4f, 1.0f, 2.2f);
-  cam.forward = glm::normalize(Vec3(-0.3f, -0.45f, -1.0f));
-  cam.right = glm::normalize(glm::cross(cam.forward, Vec3(0, 1, 0)));
-  cam.up = glm::cross(cam.right, cam.forward);
-  cam.yfov = 0.9f;
-  scene.setCamera(cam);
+  addRoomLight(scene, light);
+  scene.setCamera(roomCamera());
   scene.commit();
   const int W = 32;
   auto path = [&](uint64_t seed) {

@@ -37,6 +37,22 @@ std::string resolveProgressiveRadius(const Scene& scene, int width, int height, 
          " pixel footprints at the median visible distance " + formatNumber(r.distance) + " m)" + photons;
 }
 
+namespace {
+// The eye path's next segment from `hit`, as both visible-point walks take it (the same draws in
+// the same order: a 2D direction, then the lobe): false when the BSDF gives no direction or the
+// throughput dies.
+bool scatterEyePath(const Scene& scene, const SurfaceHit& hit, const Vec3& woLocal, SampledWavelengths& lambda, Rng& rng,
+                    Spectrum* beta, Ray* ray) {
+  BSDFSample s;
+  if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) return false;
+  if (s.terminatesSecondary) lambda.terminateSecondary();
+  *beta *= s.weight;
+  if (isBlack(*beta) || !isFinite(*beta)) return false;
+  *ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+  return true;
+}
+}  // namespace
+
 Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lambda, Rng& rng, int maxDepth, VisiblePoint* vp) {
   vp->valid = false;
   Spectrum L(0.0f), beta(1.0f);
@@ -56,14 +72,7 @@ Spectrum traceVisiblePoint(const Scene& scene, Ray ray, SampledWavelengths& lamb
       vp->valid = true;
       break;
     }
-    BSDFSample s;
-    if (!hit.bsdf->sample(hit.shading.toLocal(wo), bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()),
-                          rng.uniform(), &s))
-      break;
-    if (s.terminatesSecondary) lambda.terminateSecondary();
-    beta *= s.weight;
-    if (isBlack(beta) || !isFinite(beta)) break;
-    ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+    if (!scatterEyePath(scene, hit, hit.shading.toLocal(wo), lambda, rng, &beta, &ray)) break;
   }
   // The progressive film has no per-sample discard: nothing non-finite may enter it.
   if (!isFinite(L)) L = Spectrum(0.0f);
@@ -104,13 +113,7 @@ Spectrum traceGatherPoints(const Scene& scene, Ray ray, SampledWavelengths& lamb
       if (here == vp) break;
       onlySpecular = false;
     }
-    // The same draws, in the same order, as traceVisiblePoint.
-    BSDFSample s;
-    if (!hit.bsdf->sample(woLocal, bsdfContext(hit, lambda), Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) break;
-    if (s.terminatesSecondary) lambda.terminateSecondary();
-    beta *= s.weight;
-    if (isBlack(beta) || !isFinite(beta)) break;
-    ray = scene.spawnRay(hit, hit.shading.toWorld(s.wi));
+    if (!scatterEyePath(scene, hit, woLocal, lambda, rng, &beta, &ray)) break;
   }
   // The progressive film has no per-sample discard: nothing non-finite may enter it.
   if (!isFinite(L)) L = Spectrum(0.0f);
