@@ -2,6 +2,9 @@
 // density estimation against closed forms, and the photon integrator against the path tracer.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <tuple>
+
 #include "bsdfs/lambertian.h"
 #include "bsdfs/mirror.h"
 #include "core/sampling.h"
@@ -514,4 +517,28 @@ TEST_CASE("targeted emission: the flux through a disc is E·cosθ·area inside t
       CHECK(std::abs(d.sum - expected) < 4 * se);
     }
   }
+}
+
+TEST_CASE("stored path types: a map that skips direct photons holds exactly the full map's caustic and indirect ones") {
+  // sppm and pppm store only what they gather; the paths and their draws must not change, so
+  // the smaller map is the full one without its direct photons, photon for photon.
+  auto scene = loadGltf(scenePath("glass-caustic.gltf"));
+  PhotonTracingOptions o;
+  o.globalPaths = 20000;
+  o.causticPaths = 0;
+  PhotonMaps all = tracePhotons(*scene, o);
+  o.store = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
+  PhotonMaps some = tracePhotons(*scene, o);
+  REQUIRE(all.global.count(Photon::kAcceptDirect) > 0);
+  REQUIRE(all.global.count(o.store) > 0);
+  CHECK(some.global.count(Photon::kAcceptDirect) == 0);
+  CHECK(some.global.size() == all.global.count(o.store));
+  auto key = [](const Photon& p) { return std::make_tuple(p.position[0], p.position[1], p.position[2], p.type()); };
+  std::vector<std::tuple<float, float, float, Photon::Type>> a, b;
+  for (const Photon& p : all.global.photons())
+    if ((o.store >> p.type()) & 1) a.push_back(key(p));
+  for (const Photon& p : some.global.photons()) b.push_back(key(p));
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  CHECK(a == b);
 }

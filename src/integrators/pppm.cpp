@@ -28,13 +28,14 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
 
   auto pass = [&](int p) {
     advanceTo(p);
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
+                                       kGatheredPhotons);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
     de.planeTolerance = 0.25f * de.radius;
-    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;  // direct: estimateDirectMIS
+    const uint8_t accept = kGatheredPhotons;
     PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {
       for (int x = 0; x < W; ++x) {

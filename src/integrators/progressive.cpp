@@ -182,7 +182,7 @@ void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp)
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral, const Budget* budget, const EmissionTarget& target) {
+                            bool spectral, const Budget* budget, const EmissionTarget& target, uint8_t store) {
   PhotonTracingOptions o;
   o.globalPaths = photons;
   o.causticPaths = 0;
@@ -192,6 +192,7 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
   o.spectral = spectral;
   o.budget = budget;
   o.target = target;
+  o.store = store;
   return tracePhotons(scene, o);
 }
 

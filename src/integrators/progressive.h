@@ -139,10 +139,15 @@ struct PassSetup : RenderSession {
   std::vector<uint32_t> passes;
 };
 
+// The photons sppm and pppm gather and store: caustic and indirect ones (their direct light is
+// estimateDirectMIS's).
+constexpr uint8_t kGatheredPhotons = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
+
 // Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass). When the
 // budget expires on the way, the maps come back incomplete (and empty): the pass is dropped.
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral, const Budget* budget, const EmissionTarget& target);
+                            bool spectral, const Budget* budget, const EmissionTarget& target,
+                            uint8_t store = Photon::kAcceptAll);
 
 // The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0).
 inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {

@@ -42,11 +42,12 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       }
     });
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
+                                       kGatheredPhotons);
     if (!maps.complete) return false;
     // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
-    const uint8_t accept = Photon::kAcceptIndirect | Photon::kAcceptCaustic;
+    const uint8_t accept = kGatheredPhotons;
     const double n = double(setup.photonsPerPass);
     PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {

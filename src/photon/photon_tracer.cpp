@@ -49,7 +49,8 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
           if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(), type, rng.uniform()));
           return false;
         }
-        out->push_back(Photon(hit.p, wo, stored(), type, rng.uniform()));
+        const float dither = rng.uniform();
+        if ((o.store >> type) & 1) out->push_back(Photon(hit.p, wo, stored(), type, dither));
         onlySpecular = false;
       }
       return length <= o.maxDepth;  // maxDepth bounces: photons at up to maxDepth + 1 hits

@@ -36,6 +36,10 @@ struct PhotonTracingOptions {
   // are left incomplete (PhotonMaps::complete = false) and empty.
   const Budget* budget = nullptr;
   EmissionTarget target;  // for lights at infinity only
+  // The path types stored (Photon::kAccept*): an estimator that never gathers a type (sppm's
+  // and pppm's direct photons: their direct light is MIS) keeps its map and kd-tree smaller.
+  // The paths and their random draws are the same whatever is stored.
+  uint8_t store = Photon::kAcceptAll;
 };
 
 struct PhotonMaps {
