@@ -406,8 +406,7 @@ TEST_CASE("photon target: a plate in a scene 35 m across under a sky and under t
   // whether the sky's and sun's photons start over the scene's disc (target scene) or half of
   // them over the disc around what the camera sees (target view). Aimed photons land on the plate
   // about q·(R/r)² ≈ 0.5·(17/0.6)² ≈ 400 times as densely, so the per-pixel variance aimed at the
-  // view (from the two seeds' differences) must be below a tenth of the other's (measured: ~1/500
-  // under the sun, ~1/300 under the sky). Aimed at the view, the image is held to the closed form
+  // view (from the two seeds' differences) must be below a tenth of the other's. Aimed at the view, the image is held to the closed form
   // per pixel; over the scene, at ~40% noise per pixel here, by its image mean within 4 standard
   // errors (from 4×4-pixel regions' seed differences; per pixel it is the contract test's).
   for (int sky = 0; sky < 2; ++sky) {

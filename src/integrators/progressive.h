@@ -106,10 +106,9 @@ void gatherPhotons(const VisiblePoint& vp, const PhotonMap& map, uint8_t accept,
                    ProgressiveStats* stats, PhotonMarks* marks = nullptr);
 double meanRadius(const std::vector<ProgressiveStats>& stats);
 
-// SPPM's and PPPM's photons per pass when unset: the image's pixel count, as pbrt-v4's SPPM. An
-// eye pass then costs about what a photon pass does; on a sky-lit model, where the eye pass's direct light is
-// most of the error, 100,000 photons per pass at 128×128 left 11× fewer passes than the path
-// tracer's samples (docs: Progressive photon mapping).
+// SPPM's and PPPM's photons per pass when unset: the image's pixel count, as pbrt-v4's SPPM, so
+// that an eye pass costs about what a photon pass does: on a sky-lit model the eye pass's
+// direct light is most of the error (docs: Progressive photon mapping).
 inline uint64_t defaultPhotonsPerPass(int width, int height) { return uint64_t(width) * uint64_t(height); }
 
 // The registry's resolve step for the progressive integrators: an unset radius becomes

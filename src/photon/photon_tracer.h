@@ -12,7 +12,7 @@ namespace pl {
 // sky, the sun) emits over the disc covering the whole scene, so a model in view that is small
 // against the scene receives few of its photons. With a target, a fraction q of such photons
 // start on the disc covering the target sphere instead (the region the camera sees), the rest
-// on the scene's disc as before; each photon's flux is divided by the mixture's area density
+// on the scene's disc; each photon's flux is divided by the mixture's area density
 //   p(y) = q·1[y ∈ D_T]/(π r_T²) + (1 − q)·1[y ∈ D_S]/(π R²)
 // over the plane of origins (one-sample MIS, balance heuristic: Veach 1997, §9.2.4), so the map
 // stays unbiased everywhere, the part out of view included.
