@@ -26,11 +26,29 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
   // Exact sums (core/exact_sum.h), so that slices merge into the whole render's bits.
   std::vector<ExactSum> sum(pixels * 3);
 
+  // A pass's gather points and what their eye paths picked up on the way, kept from the eye pass
+  // to the gather.
+  std::vector<VisiblePoint> visible(pixels), causticPoints(pixels);
+  std::vector<Spectrum> passL(pixels);
+  std::vector<SampledWavelengths> passLambda(pixels);
+
   auto pass = [&](int p) {
     advanceTo(p);
+    // 1. Eye pass: the pixels' gather points, and the emission and direct light on the way.
+    parallelFor(size_t(H), threads, [&](size_t y, int) {
+      for (int x = 0; x < W; ++x) {
+        if (budget.expired()) return;
+        size_t i = y * W + x;
+        CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
+        passL[i] = traceGatherPoints(scene, eye.ray, eye.lambda, eye.rng, o.maxDepth, &visible[i], &causticPoints[i]);
+        passLambda[i] = eye.lambda;
+      }
+    });
+    // 2. Photon pass (dropped whole if the budget expires).
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
                                        kGatheredPhotons);
-    if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
+    if (!maps.complete) return false;
+    // 3. Gather at the pass's radius.
     DensityEstimation de;
     de.kernel = Kernel::Uniform;
     de.radius = float(std::sqrt(r2));
@@ -41,12 +59,9 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
       for (int x = 0; x < W; ++x) {
         if (budget.expired()) return;
         size_t i = y * W + x;
-        CameraPath eye = beginEyePath(scene, ro, x, int(y), uint64_t(p));
-        Rng& rng = eye.rng;
-        SampledWavelengths& lambda = eye.lambda;
-        const Ray& ray = eye.ray;
-        VisiblePoint vp, caustic;
-        Spectrum L = traceGatherPoints(scene, ray, lambda, rng, o.maxDepth, &vp, &caustic);
+        const VisiblePoint &vp = visible[i], &caustic = causticPoints[i];
+        const SampledWavelengths& lambda = passLambda[i];
+        Spectrum L = passL[i];
         // The maps' radiance is uplifted on a spectral path.
         GatherStats marking;
         marking.marks = &marks;

@@ -17,20 +17,37 @@ namespace {
 
 constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
 
-// Traces one photon path (transport/light_walk.h), appending what it stores. In caustic mode the
-// path ends at the first non-specular hit and is stored only if it went through at least one
-// specular bounce.
-[[gnu::flatten]] void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
-               std::vector<Photon>* out) {
-  Rng rng(0);
-  SampledWavelengths lambda;
-  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda,
-                            o.target.active() ? &o.target : nullptr);
+}  // namespace
+
+// A photon's emission from `draws`: its wavelengths (1D), the light and its ray (emitLight), and
+// with a target the retargeting (1D, 2D). E[flux] = total power / count.
+template <class Draws>
+EmittedRay emitPhotonFrom(const Scene& scene, Draws& draws, uint64_t count, bool spectral, SampledWavelengths* lambda,
+                          const EmissionTarget* target) {
+  *lambda = spectral ? SampledWavelengths::sample(draws.get1D()) : SampledWavelengths();
+  LightEmission emitted = emitLight(scene, draws, *lambda);
+  if (!emitted.light) return emitted.e;
+  if (target && (emitted.light->isInfinite() || emitted.light->isDeltaDirection())) {
+    const float uPick = draws.get1D();
+    retargetEmission(scene, *target, uPick, draws.get2D(), &emitted.e);
+  }
+  emitted.e.flux *= 1.0f / (emitted.pick * float(count));  // one division, not three
+  return emitted.e;
+}
+
+namespace {
+
+// Traces one photon path (transport/light_walk.h) from its emitted ray, every further random
+// number from `draws`, appending what it stores. In caustic mode the path ends at the first
+// non-specular hit and is stored only if it went through at least one specular bounce.
+template <class Draws>
+[[gnu::flatten]] void tracePath(const Scene& scene, const PhotonTracingOptions& o, const EmittedRay& e, SampledWavelengths& lambda,
+                                Draws& draws, bool causticMode, std::vector<Photon>* out) {
   if (isBlack(e.flux) || !isFinite(e.flux)) return;
   struct Walker {
     const PhotonTracingOptions& o;
     const SampledWavelengths& lambda;
-    Rng& rng;
+    Draws& draws;
     bool causticMode;
     std::vector<Photon>* out;
     Spectrum flux;
@@ -46,25 +63,35 @@ constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
         bool first = length == 1;
         auto type = Photon::Type(first * Photon::kDirect + (!first & onlySpecular) * Photon::kCaustic);
         if (causticMode) {
-          if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(), type, rng.uniform()));
+          if (type == Photon::kCaustic) out->push_back(Photon(hit.p, wo, stored(), type, draws.get1D()));
           return false;
         }
-        const float dither = rng.uniform();
+        const float dither = draws.get1D();
         if ((o.store >> type) & 1) out->push_back(Photon(hit.p, wo, stored(), type, dither));
         onlySpecular = false;
       }
       return length <= o.maxDepth;  // maxDepth bounces: photons at up to maxDepth + 1 hits
     }
-    bool scattered(const SurfaceHit&, const LightScatter& s, int, StreamDraws& draws) {
+    bool scattered(const SurfaceHit&, const LightScatter& s, int, Draws& d) {
       // Russian roulette by albedo (core/roulette.h), at every bounce.
       const float q = roulette::albedo(maxComponent(s.bs.weight));
-      if (!roulette::survives(q, [&] { return draws.get1D(); })) return false;
+      if (!roulette::survives(q, [&] { return d.get1D(); })) return false;
       flux *= s.bs.weight * (1.0f / q);
       return isFinite(flux);  // a non-finite BSDF weight ends the path: it never reaches a map
     }
-  } walker{o, lambda, rng, causticMode, out, e.flux};
-  StreamDraws draws{rng};
+  } walker{o, lambda, draws, causticMode, out, e.flux};
   walkLightPath(scene, e.ray, draws, lambda, ShadingCheck::kWhereNormalsDiffer, walker);
+}
+
+// Photon path `index` of `count` from its own stream (seed, map, index).
+void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index, uint64_t count, bool causticMode,
+               std::vector<Photon>* out) {
+  Rng rng(0);
+  SampledWavelengths lambda;
+  EmittedRay e = emitPhoton(scene, o.seed, index, count, causticMode ? kCausticStream : kGlobalStream, &rng, o.spectral, &lambda,
+                            o.target.active() ? &o.target : nullptr);
+  StreamDraws draws{rng};
+  tracePath(scene, o, e, lambda, draws, causticMode, out);
 }
 
 double since(std::chrono::steady_clock::time_point t0) {
@@ -151,17 +178,8 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
                       bool spectral, SampledWavelengths* lambda, const EmissionTarget* target) {
   *rng = Rng::hashed(mix64(seed ^ (stream << 32) ^ stream), index);  // photon i's stream: (seed, map, i)
   SampledWavelengths own;
-  if (!lambda) lambda = &own;
-  *lambda = spectral ? SampledWavelengths::sample(rng->uniform()) : SampledWavelengths();
   StreamDraws draws{*rng};
-  LightEmission emitted = emitLight(scene, draws, *lambda);
-  if (!emitted.light) return emitted.e;
-  if (target && (emitted.light->isInfinite() || emitted.light->isDeltaDirection())) {
-    const float uPick = draws.get1D();
-    retargetEmission(scene, *target, uPick, draws.get2D(), &emitted.e);
-  }
-  emitted.e.flux *= 1.0f / (emitted.pick * float(count));  // one division, not three
-  return emitted.e;
+  return emitPhotonFrom(scene, draws, count, spectral, lambda ? lambda : &own, target);
 }
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& o) {
