@@ -542,3 +542,67 @@ TEST_CASE("stored path types: a map that skips direct photons holds exactly the 
   std::sort(b.begin(), b.end());
   CHECK(a == b);
 }
+
+TEST_CASE("adaptive photon tracing: a ball on a floor under the sun - the visible fraction r²/R², every photon in the ball, E there uniformly") {
+  // A 20 m floor lit straight down by the sun (E = 2): uniform paths start on the scene's disc
+  // (R = 10√2 m) and land uniformly over it, so the paths visible to a ball of r = 0.5 m at the
+  // origin are V_c = r²/R² of them (maxDepth 0: one photon per path). The chain's map holds
+  // only visible paths, scaled by V̂_c·N/N_chain: its irradiance in the ball is E·V̂_c/V_c, so
+  // E·V̂_c/V_c·(V_c/V̂_c) must be E wherever it is measured in the ball. Eight seeds give the
+  // standard errors (5 of them: Student's t with 7 degrees of freedom passes that 0.2% of the
+  // time); V̂_c's is √(V_c(1 − V_c)/N) per seed.
+  const float E = 2.0f, r = 0.5f;
+  Scene scene;
+  addQuad(scene, {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, lambertian(scene, 0.5f));
+  scene.addLight(std::make_unique<DirectionalLight>(Vec3(0, -1, 0), Spectrum(E)));
+  scene.commit();
+  const double R = scene.bounds().radius(), Vc = double(r) * r / (R * R);
+  PhotonVisibility visibility({{Vec3(0.0f), r * r}});
+  const uint64_t N = 500000;
+  const Vec3 points[3] = {Vec3(0.0f), Vec3(0.3f, 0, 0), Vec3(-0.2f, 0, 0.25f)};
+  std::vector<double> fraction, normalised[3];
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    PhotonTracingOptions o;
+    o.globalPaths = N;
+    o.causticPaths = 0;
+    o.maxDepth = 0;
+    o.seed = seed;
+    o.adaptive = &visibility;
+    o.mutationSize = 0.01f;  // the ball spans ~r/R = 0.035 of the disc's coordinates
+    PhotonMaps maps = tracePhotons(scene, o);
+    const AdaptiveChainStats& c = maps.chain;
+    REQUIRE(c.uniform == N);
+    INFO("seed " << seed << ": " << c.visible << " visible of " << c.uniform << ", " << c.samples << " chain samples, "
+                 << c.accepted << " of " << c.mutations << " mutations accepted");
+    // The chains mutate, and each found a state early: the first visible one of ~1/V_c = 800
+    // draws, in chains of 4096.
+    CHECK(c.accepted > 0);
+    CHECK(c.accepted < c.mutations);
+    CHECK(c.samples > N * 3 / 4);
+    double farthest = 0;
+    for (const Photon& ph : maps.global.photons()) farthest = std::max(farthest, double(glm::length(ph.p())));
+    CHECK(farthest <= r * 1.0001);
+    fraction.push_back(c.visibleFraction());
+    DensityEstimation de;
+    de.kernel = Kernel::Uniform;
+    de.radius = 0.1f;
+    for (int k = 0; k < 3; ++k)
+      normalised[k].push_back(maps.global.irradiance(points[k], Vec3(0, 1, 0), de, Photon::kAcceptAll).g * Vc / c.visibleFraction());
+  }
+  auto meanAndError = [](const std::vector<double>& v) {
+    double m = 0, s2 = 0;
+    for (double x : v) m += x / v.size();
+    for (double x : v) s2 += (x - m) * (x - m) / (v.size() - 1);
+    return std::make_pair(m, std::sqrt(s2 / v.size()));
+  };
+  const double vcError = std::sqrt(Vc * (1 - Vc) / N / 8);
+  auto [vcMean, vcSpread] = meanAndError(fraction);
+  INFO("V̂_c " << vcMean << " against " << Vc << " (standard error " << vcError << ", seeds' " << vcSpread << ")");
+  CHECK(std::abs(vcMean - Vc) < 4 * vcError);
+  for (int k = 0; k < 3; ++k) {
+    auto [m, se] = meanAndError(normalised[k]);
+    INFO("E at (" << points[k].x << ", " << points[k].z << "): " << m << " against " << E << ", standard error " << se);
+    CHECK(se < 0.02 * E);
+    CHECK(std::abs(m - E) < 5 * se);
+  }
+}

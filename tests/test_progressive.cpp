@@ -16,10 +16,12 @@ using namespace pl::test;
 namespace {
 
 const char* kAll[] = {"ppm", "sppm", "pppm"};
+const char* kSamplings[] = {"uniform", "adaptive"};
 
 ImageRGB renderProgressive(const std::string& name, const Scene& scene, int W, int passes, uint64_t photons,
                            float radius, uint64_t seed = 1, int threads = 0,
-                           const std::function<void(const ImageRGB&, const RenderInfo&)>& cp = {}) {
+                           const std::function<void(const ImageRGB&, const RenderInfo&)>& cp = {},
+                           const std::string& sampling = "uniform") {
   RenderOptions ro;
   ro.width = ro.height = W;
   ro.seed = seed;
@@ -27,7 +29,7 @@ ImageRGB renderProgressive(const std::string& name, const Scene& scene, int W, i
   ro.checkpoint = cp;
   std::map<std::string, double> p = {{"passes", passes}, {"photons_per_pass", double(photons)}};
   if (radius > 0) p["radius"] = radius;  // else the scene's default radius
-  return makeWith(name, p)->render(scene, ro, nullptr);
+  return makeWith(name, p, {}, {{"photon_sampling", sampling}})->render(scene, ro, nullptr);
 }
 
 // Least-squares slope of log y against log x.
@@ -94,44 +96,52 @@ TEST_CASE("PPPM radius schedule: r²_{i+1} = r²_i (i + α)/(i + 1) - so r²_i �
   CHECK(at[4000] * std::pow(4000.0, 1 - a) == Approx(at[2000] * std::pow(2000.0, 1 - a)).epsilon(1e-3));
 }
 
-TEST_CASE("progressive photon mapping in the closed furnace: L = Le / (1 − ρ)") {
+TEST_CASE("progressive photon mapping in the closed furnace: L = Le / (1 − ρ) - uniform and adaptive photon sampling") {
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
-  for (const char* name : kAll) {
-    INFO(name);
-    ImageRGB img = renderProgressive(name, *scene, 8, 16, 50000, 0.1f);
-    CHECK(meanOf(img) == Approx(2.0).epsilon(0.02));
-  }
+  for (const char* sampling : kSamplings)
+    for (const char* name : kAll) {
+      INFO(name << ", " << sampling);
+      ImageRGB img = renderProgressive(name, *scene, 8, 16, 50000, 0.1f, 1, 0, {}, sampling);
+      CHECK(meanOf(img) == Approx(2.0).epsilon(0.02));
+    }
 }
 
-TEST_CASE("progressive photon mapping: point light over a plane converges to ρ/π · I cosθ / r²") {
+TEST_CASE("progressive photon mapping: point light over a plane converges to ρ/π · I cosθ / r² - uniform and adaptive photon sampling") {
+  // 48 pixels: the gather balls of neighbouring pixels overlap, so the adaptive chain's visible
+  // region is one piece. At 12 pixels it is 144 separate balls, between which only the replica
+  // exchange moves the chain; its photons then come in runs of ~1/V_c in one pixel, and its
+  // per-pixel noise exceeds the uniform tracer's at the same photon count.
   Scene scene;
   float s = 20.0f;
   addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s}, lambertian(scene, 0.5f));
   scene.addLight(std::make_unique<PointLight>(Vec3(0, 1, 0), Spectrum(3.0f)));
   scene.setCamera(lookingDown(2.0f, 0.6f));
   scene.commit();
-  ImageRGB expected = expectedFloorImage(scene, 12, 12, [](const Vec3& x) {
+  ImageRGB expected = expectedFloorImage(scene, 48, 48, [](const Vec3& x) {
     double r2 = 1.0 + x.x * x.x + x.z * x.z;
     return 0.5 / kPi * 3.0 / std::sqrt(r2) / r2;
   });
-  for (const char* name : kAll) {
-    INFO(name);
-    ImageRGB img = renderProgressive(name, scene, 12, 32, 50000, 0.05f);
-    CHECK(meanOf(img) / meanOf(expected) == Approx(1.0).epsilon(0.02));
-    CHECK(relativeMSE(img, expected) < 0.01);
-  }
+  for (const char* sampling : kSamplings)
+    for (const char* name : kAll) {
+      INFO(name << ", " << sampling);
+      ImageRGB img = renderProgressive(name, scene, 48, 32, 50000, 0.05f, 1, 0, {}, sampling);
+      CHECK(meanOf(img) / meanOf(expected) == Approx(1.0).epsilon(0.02));
+      INFO("relative MSE per pixel " << relativeMSE(img, expected));
+      CHECK(relativeMSE(img, expected) < 0.01);
+    }
 }
 
-TEST_CASE("mirror caustic: PPM - SPPM and PPPM converge to E = I/h² + R·I/(2H − h)² - the path tracer cannot") {
+TEST_CASE("mirror caustic: PPM - SPPM and PPPM converge to E = I/h² + R·I/(2H − h)² - uniform and adaptive photon sampling - the path tracer cannot") {
   MirrorCaustic mc;
   auto scene = mc.build();
   ImageRGB withCaustic = expectedFloorImage(*scene, 12, 12, [&](const Vec3& x) { return mc.radiance(x); });
   ImageRGB withoutCaustic = expectedFloorImage(*scene, 12, 12, [&](const Vec3& x) { return mc.radiance(x, false); });
-  for (const char* name : kAll) {
-    INFO(name);
-    ImageRGB img = renderProgressive(name, *scene, 12, 32, 50000, 0.05f);
-    CHECK(meanOf(img) / meanOf(withCaustic) == Approx(1.0).epsilon(0.02));
-  }
+  for (const char* sampling : kSamplings)
+    for (const char* name : kAll) {
+      INFO(name << ", " << sampling);
+      ImageRGB img = renderProgressive(name, *scene, 12, 32, 50000, 0.05f, 1, 0, {}, sampling);
+      CHECK(meanOf(img) / meanOf(withCaustic) == Approx(1.0).epsilon(0.02));
+    }
   // The path tracer converges to the image without the mirror-image term.
   auto path = makeIntegrator("path", {});
   RenderOptions ro;
@@ -189,14 +199,15 @@ TEST_CASE("convergence rate: MSE falls as passes^(−2/3) for α = 2/3 - the pat
   CHECK(slope == Approx(-1.0).margin(0.15));
 }
 
-TEST_CASE("progressive photon mapping is bit-identical whatever the thread count") {
+TEST_CASE("progressive photon mapping is bit-identical whatever the thread count - uniform and adaptive photon sampling") {
   auto scene = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/cornell-spheres.gltf");
-  for (const char* name : kAll) {
-    INFO(name);
-    ImageRGB a = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 1);
-    ImageRGB b = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 2);
-    CHECK(a.data == b.data);
-  }
+  for (const char* sampling : kSamplings)
+    for (const char* name : kAll) {
+      INFO(name << ", " << sampling);
+      ImageRGB a = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 1, {}, sampling);
+      ImageRGB b = renderProgressive(name, *scene, 12, 3, 20000, 0.03f, 1, 2, {}, sampling);
+      CHECK(a.data == b.data);
+    }
 }
 
 TEST_CASE("checkpoints come after passes 1 - 2 - 4 - 8 and the last - with growing photon counts") {
@@ -479,5 +490,35 @@ TEST_CASE("visibility ratio: in the closed furnace the photons near the view are
     INFO("visible fraction " << info.visibleFraction);
     CHECK(info.visibleFraction > 0.97 * inside);
     CHECK(info.visibleFraction < 1.03 * withRim);
+  }
+}
+
+TEST_CASE("adaptive photon sampling in the closed furnace: the chain's visible fraction V̂_c is the closed form's - ppm sppm pppm") {
+  // Every hit of a furnace photon path lands uniformly on the sphere, independently of the
+  // others (a Lambertian bounce inside a sphere reaches every point with the same density), and
+  // a path has K hits with P(K = k) = (1 − ρ)ρ^(k−1) (roulette by the albedo ρ = 1/2). With p
+  // the share of the sphere inside the visible points' balls, a path is visible unless all its
+  // usable hits miss: ppm uses all K, so V_c = 1 − E[(1 − p)^K] = p/(1 − ρ(1 − p)); sppm and
+  // pppm store no direct photon, so only K − 1 hits count and V_c = ρp/(1 − ρ(1 − p)). p lies
+  // between the view's share and it with a rim r wide (the visibility-ratio test's bounds).
+  auto furnace = loadGltf(std::string(PHOTONLAB_SOURCE_DIR) + "/scenes/furnace.gltf");
+  const double fov = furnace->camera().yfov, r = 0.03, rho = 0.5;
+  const double inside = 4 * std::asin(std::sin(fov / 2) * std::sin(fov / 2)) / (4 * kPi);
+  const double withRim = inside + 4 * fov * r / (4 * kPi);
+  for (const char* name : kAll) {
+    const bool all = std::string(name) == "ppm";
+    auto Vc = [&](double p) { return (all ? p : rho * p) / (1 - rho * (1 - p)); };
+    INFO(name << ": V_c between " << Vc(inside) << " and " << Vc(withRim));
+    RenderOptions ro;
+    ro.width = ro.height = 64;
+    RenderInfo info;
+    makeWith(name, {{"passes", 4}, {"photons_per_pass", 50000}, {"radius", r}}, {}, {{"photon_sampling", "adaptive"}})
+        ->render(*furnace, ro, &info);
+    INFO("V̂_c " << info.visiblePaths << ", visible photons " << info.visibleFraction);
+    // 200,000 uniform paths: V̂_c's standard error is below 0.0012; 3% covers it at these V_c.
+    CHECK(info.visiblePaths > 0.97 * Vc(inside));
+    CHECK(info.visiblePaths < 1.03 * Vc(withRim));
+    // The chain's photons: more of them near the view than the uniform share.
+    CHECK(info.visibleFraction > 1.5 * withRim);
   }
 }

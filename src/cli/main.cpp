@@ -274,7 +274,8 @@ int cmdRender(const std::string& scenePath, const std::vector<std::string>& outp
   std::string budget = s.image.timeLimit > 0 ? " of a " + formatNumber(s.image.timeLimit) + " s budget" : "";
   // Hachisuka & Jensen's visibility: how many of the photons were of use to this view.
   const std::string visibility =
-      info.visibleFraction >= 0 ? ", " + percentText(info.visibleFraction) + " of the usable photons near a visible point" : "";
+      (info.visibleFraction >= 0 ? ", " + percentText(info.visibleFraction) + " of the usable photons near a visible point" : "") +
+      (info.visiblePaths >= 0 ? " (adaptive chain; " + percentText(info.visiblePaths) + " of uniform paths visible)" : "");
   if (progressive)
     std::fprintf(stderr, "%s: %dx%d, %s, %llu photon paths, %.2f s%s, %s, mean radius at the end %g m%s -> %s\n",
                  s.integrator.c_str(), s.image.width, s.image.height, work.c_str(), (unsigned long long)info.photons,
@@ -408,7 +409,7 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   // What differs between slices of one render: their own work, time and range; everything
   // else (scene, integrator, every parameter, seed, size, spectral, build) must agree.
   std::set<std::string> own = {"seconds", "range_begin", "range_end", "range_step", "spp", "passes", "mean_spp", "mean_passes",
-                               "photons", "mean_radius", "time_up", "merged_slices", "visible_photons"};
+                               "photons", "mean_radius", "time_up", "merged_slices", "visible_photons", "visible_paths"};
   const Part& first = parts.front();
   // "radius" is the radius reached (per slice) unless the integrator declares it as a parameter.
   const IntegratorEntry* entry = first.meta.count("integrator") ? findIntegrator(first.meta.at("integrator")) : nullptr;
@@ -455,7 +456,8 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   merged.begin = lo, merged.end = hi, merged.step = 1;
   double seconds = 0;
   uint64_t photons = 0;
-  double visible = 0;  // Σ visible_photons × photons: the slices' visibility weighted by their photon paths
+  // Σ visible_photons × photons, Σ visible_paths × photons: the slices' visibility weighted by their photon paths
+  double visible = 0, visiblePaths = 0;
   int slices = 0;  // the original slices, through merges of merges
   for (size_t i = 0; i < parts.size(); ++i) {
     const RenderSlice& s = parts[i].slice;
@@ -465,6 +467,8 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
       photons += std::stoull(parts[i].meta.at("photons"));
       if (parts[i].meta.count("visible_photons"))
         visible += std::stod(parts[i].meta.at("visible_photons")) * std::stod(parts[i].meta.at("photons"));
+      if (parts[i].meta.count("visible_paths"))
+        visiblePaths += std::stod(parts[i].meta.at("visible_paths")) * std::stod(parts[i].meta.at("photons"));
     }
     if (i == 0) continue;
     if (s.sums.size() != merged.sums.size() || s.splats.size() != merged.splats.size() || s.counts.size() != merged.counts.size())
@@ -479,6 +483,7 @@ int cmdMerge(const std::vector<std::string>& paths, const std::string& output, b
   meta[unit == "passes" ? "passes" : "spp"] = std::to_string(merged.end - merged.begin);
   if (photons) meta["photons"] = std::to_string(photons);
   if (photons && meta.count("visible_photons")) meta["visible_photons"] = formatNumber(visible / double(photons));
+  if (photons && meta.count("visible_paths")) meta["visible_paths"] = formatNumber(visiblePaths / double(photons));
   meta["merged_slices"] = std::to_string(slices);
   if (partialOutput) writeSlice(output, merged, meta);
   else {

@@ -64,6 +64,7 @@ std::map<std::string, std::string> runMetadata(const RunSettings& s, const Check
   if (info.photons > 0 && !s.params.has("photons")) m["photons"] = std::to_string(info.photons);
   if (info.meanRadius > 0) m[m.count("radius") ? "mean_radius" : "radius"] = formatNumber(info.meanRadius);
   if (info.visibleFraction >= 0) m["visible_photons"] = formatNumber(info.visibleFraction);
+  if (info.visiblePaths >= 0) m["visible_paths"] = formatNumber(info.visiblePaths);
   if (m.count("aov") && m["aov"] == "radiance") m.erase("aov");
   if (s.image.nanAov) m["aov"] = "nan";
   if (s.image.spectral) m["spectral"] = "1";
@@ -94,6 +95,7 @@ const std::vector<MetadataKey>& metadataKeys() {
       {"radius", "The gather radius used or reached (m), when the integrator does not declare `radius`."},
       {"mean_radius", "The mean gather radius reached (m), beside a declared `radius`."},
       {"visible_photons", "ppm, sppm, pppm: of the photons stored that a gather could use, the fraction some visible point's gather found (Hachisuka & Jensen's visibility); a merge weights its slices' by their photon paths."},
+      {"visible_paths", "ppm, sppm, pppm with photon_sampling adaptive: the fraction of the uniformly drawn photon paths that were visible (V̂c, the chain's normalisation; Hachisuka & Jensen 2011); a merge weights its slices' by their photon paths."},
       {"aov", "A debug image instead of radiance: `nan`, `photons`, `radius`, ..."},
       {"spectral", "1: rendered spectrally."},
       {"time_budget", "`--time` in seconds, when given."},

@@ -165,6 +165,14 @@ ParamSpec photonTarget() {
                 "view", {"view", "scene"});
 }
 
+ParamSpec photonSampling() {
+  return choice("photon_sampling",
+                "how photon paths are drawn: uniform: independently, by the lights' emission and the BSDFs; adaptive: a Markov "
+                "chain over paths that land near a visible point, normalised by the uniform paths' visible fraction "
+                "(Hachisuka & Jensen 2011)",
+                "uniform", {"uniform", "adaptive"});
+}
+
 ParamSpec progressiveRadius() {
   ParamSpec s{"radius", ParamType::Real, "initial gather radius in metres"};
   s.defaultDoc = "5 pixel footprints at the median visible distance";

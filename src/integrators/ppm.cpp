@@ -35,7 +35,15 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
   });
 
   auto pass = [&](int p) {
-    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target);
+    // Adaptive: towards the hit points and their current radii.
+    std::unique_ptr<PhotonVisibility> visibility;
+    if (o.adaptive) {
+      std::vector<PhotonVisibility::Sphere> spheres;
+      for (size_t i = 0; i < pixels; ++i) addVisibleSphere(hitPoints[i], stats[i].R2, &spheres);
+      visibility = std::make_unique<PhotonVisibility>(spheres);
+    }
+    PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
+                                       Photon::kAcceptAll, visibility.get(), setup.mutationSize);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole
     PhotonMarks marks(maps.global.size());
     parallelFor(size_t(H), threads, [&](size_t y, int) {
@@ -46,7 +54,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
         ++passes[i];
       }
     });
-    setup.countVisibility(maps.global, Photon::kAcceptAll, marks);
+    setup.countVisibility(maps, Photon::kAcceptAll, marks);
     return true;
   };
   auto image = [&] {

@@ -44,9 +44,19 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         passLambda[i] = eye.lambda;
       }
     });
-    // 2. Photon pass (dropped whole if the budget expires).
+    // 2. Photon pass (dropped whole if the budget expires), adaptive: towards this pass's gather
+    // points at its radius.
+    std::unique_ptr<PhotonVisibility> visibility;
+    if (o.adaptive) {
+      std::vector<PhotonVisibility::Sphere> spheres;
+      for (size_t i = 0; i < pixels; ++i) {
+        addVisibleSphere(visible[i], r2, &spheres);
+        addVisibleSphere(causticPoints[i], r2, &spheres);
+      }
+      visibility = std::make_unique<PhotonVisibility>(spheres);
+    }
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
-                                       kGatheredPhotons);
+                                       kGatheredPhotons, visibility.get(), setup.mutationSize);
     if (!maps.complete) return false;
     // 3. Gather at the pass's radius.
     DensityEstimation de;
@@ -72,7 +82,7 @@ ImageRGB PPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         ++passes[i];
       }
     });
-    setup.countVisibility(maps.global, accept, marks);
+    setup.countVisibility(maps, accept, marks);
     lastRadius = de.radius;
     return true;
   };

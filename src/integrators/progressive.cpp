@@ -9,7 +9,8 @@ namespace pl {
 
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel) {
   return {params::passes(), params::photonsPerPass(photonsPerPixel ? "" : "100000"), params::alpha(),
-          params::progressiveRadius(), params::maxDepth(), params::photonTarget()};
+          params::progressiveRadius(), params::maxDepth(), params::photonTarget(),
+          params::photonSampling()};
 }
 
 ProgressiveOptions progressiveOptions(const ParamSet& p) {
@@ -20,6 +21,7 @@ ProgressiveOptions progressiveOptions(const ParamSet& p) {
   o.radius = float(p.real("radius"));
   o.maxDepth = int(p.integer("max_depth"));
   o.targetView = p.choice("photon_target") != "scene";
+  o.adaptive = p.choice("photon_sampling") == "adaptive";
   return o;
 }
 
@@ -182,7 +184,8 @@ void finishSpectralVisiblePoint(const SampledWavelengths& ctx, VisiblePoint* vp)
 }
 
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
-                            bool spectral, const Budget* budget, const EmissionTarget& target, uint8_t store) {
+                            bool spectral, const Budget* budget, const EmissionTarget& target, uint8_t store,
+                            const PhotonVisibility* adaptive, float mutationSize) {
   PhotonTracingOptions o;
   o.globalPaths = photons;
   o.causticPaths = 0;
@@ -193,6 +196,8 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
   o.budget = budget;
   o.target = target;
   o.store = store;
+  o.adaptive = adaptive;
+  o.mutationSize = mutationSize;
   return tracePhotons(scene, o);
 }
 

@@ -24,8 +24,10 @@ struct ProgressiveOptions {
   float radius = 0.0f;               // initial radius; 0 = defaultRadius()
   int maxDepth = 64;
   bool targetView = true;  // --photon-target view: photons from lights at infinity aimed at the view
+  bool adaptive = false;   // --photon-sampling adaptive: Hachisuka & Jensen 2011's chain (photon_tracer.h)
 };
-// What the three declare: passes, photons_per_pass, alpha, radius, max_depth, photon_sampling.
+// What the three declare: passes, photons_per_pass, alpha, radius, max_depth, photon_target,
+// photon_sampling.
 // photonsPerPixel: photons_per_pass defaults to the pixel count (sppm and pppm, which re-trace
 // their eye pass every pass), else to 100,000 (ppm, whose hit points are traced once).
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel);
@@ -128,9 +130,20 @@ struct PassSetup : RenderSession {
   // The visibility ratio (Hachisuka & Jensen 2011): of the photons the passes stored that a
   // gather could use (their path type accepted), the fraction some gather found.
   uint64_t photonsUsable = 0, photonsFound = 0;
-  void countVisibility(const PhotonMap& map, uint8_t accept, const PhotonMarks& marks) {
-    photonsUsable += map.count(accept);
+  AdaptiveChainStats chain;  // the passes' adaptive chains, summed
+  // The adaptive chain's mutation size d for the next pass: fixed within a pass, adapted
+  // between passes towards the acceptance rate 0.234 with a diminishing step (Andrieu & Thoms
+  // 2008), d ← d + (a_p − 0.234)/p.
+  float mutationSize = 0.1f;
+  int adaptedPasses = 0;
+  void countVisibility(const PhotonMaps& maps, uint8_t accept, const PhotonMarks& marks) {
+    photonsUsable += maps.global.count(accept);
     photonsFound += marks.count();
+    chain.add(maps.chain);
+    if (maps.chain.mutations) {
+      const double rate = double(maps.chain.accepted) / double(maps.chain.mutations);
+      mutationSize = std::clamp(float(mutationSize + (rate - 0.234) / ++adaptedPasses), 1e-4f, 1.0f);
+    }
   }
   double visibleFraction() const { return photonsUsable ? double(photonsFound) / double(photonsUsable) : -1.0; }
   // Passes each pixel has completed: equal, except that a pass the budget cut short during its
@@ -144,9 +157,17 @@ constexpr uint8_t kGatheredPhotons = Photon::kAcceptIndirect | Photon::kAcceptCa
 
 // Photon maps for pass `pass`: independent per pass, deterministic for (seed, pass). When the
 // budget expires on the way, the maps come back incomplete (and empty): the pass is dropped.
+// With `adaptive`, the map comes from the adaptive chain towards it.
 PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_t photons, int threads, int maxDepth,
                             bool spectral, const Budget* budget, const EmissionTarget& target,
-                            uint8_t store = Photon::kAcceptAll);
+                            uint8_t store = Photon::kAcceptAll, const PhotonVisibility* adaptive = nullptr,
+                            float mutationSize = 0.1f);
+
+// A gather point with its squared radius, as adaptive photon tracing's visibility sees it
+// (nothing for an invalid point).
+inline void addVisibleSphere(const VisiblePoint& vp, double r2, std::vector<PhotonVisibility::Sphere>* spheres) {
+  if (vp.valid) spheres->push_back({vp.hit.p, float(r2)});
+}
 
 // The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0).
 inline CameraPath beginEyePath(const Scene& scene, const RenderOptions& image, int x, int y, uint64_t pass) {
@@ -175,6 +196,7 @@ ImageRGB runPasses(PassSetup& setup, const ProgressiveOptions& o, RenderInfo* in
     pi.photons = tracedPasses * setup.photonsPerPass;
     pi.meanRadius = meanRadius();
     pi.visibleFraction = setup.visibleFraction();
+    if (setup.chain.uniform) pi.visiblePaths = setup.chain.visibleFraction();
     return pi;
   };
   auto runPass = [&](int p) {  // 0-based unit p is pass p + 1

@@ -41,9 +41,19 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         passDirect[i] = glm::dvec3(L);
       }
     });
-    // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes).
+    // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes),
+    // adaptive: towards this pass's gather points and their radii.
+    std::unique_ptr<PhotonVisibility> visibility;
+    if (o.adaptive) {
+      std::vector<PhotonVisibility::Sphere> spheres;
+      for (size_t i = 0; i < pixels; ++i) {
+        addVisibleSphere(visible[i], stats[i].R2, &spheres);
+        addVisibleSphere(causticPoints[i], causticStats[i].R2, &spheres);
+      }
+      visibility = std::make_unique<PhotonVisibility>(spheres);
+    }
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
-                                       kGatheredPhotons);
+                                       kGatheredPhotons, visibility.get(), setup.mutationSize);
     if (!maps.complete) return false;
     // 3. Gather at the visible points (direct light came from estimateDirectMIS); a pixel's pass is
     // complete, and counted, once its gather is done.
@@ -60,7 +70,7 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
         ++passes[i];
       }
     });
-    setup.countVisibility(maps.global, accept, marks);
+    setup.countVisibility(maps, accept, marks);
     return true;
   };
   auto image = [&] {

@@ -64,7 +64,10 @@ class PhotonMap {
   // Spectral photon maps store CIE XYZ flux (never negative, unlike a single spectral sample's
   // sRGB, which the shared-exponent encoding could not hold); flux() hands back linear sRGB.
   void setFluxIsXYZ(bool xyz) { fluxIsXYZ_ = xyz; }
-  Spectrum flux(const Photon& p) const { return fluxIsXYZ_ ? xyzFluxToRGB(p.flux()) : p.flux(); }
+  // A factor on every photon's flux, known only once the map is traced (adaptive photon
+  // tracing's normalisation, photon_tracer.h); 1 otherwise.
+  void setFluxScale(float scale) { fluxScale_ = scale; }
+  Spectrum flux(const Photon& p) const { return (fluxIsXYZ_ ? xyzFluxToRGB(p.flux()) : p.flux()) * fluxScale_; }
   static Spectrum xyzFluxToRGB(const Vec3& xyz);
   size_t memoryBytes() const;
 
@@ -100,6 +103,7 @@ class PhotonMap {
 
  private:
   bool fluxIsXYZ_ = false;
+  float fluxScale_ = 1.0f;
   template <typename Weight>
   Spectrum estimate(const Vec3& x, const Vec3& n, const DensityEstimation& de, uint8_t accept,
                     GatherStats* stats, Weight&& weight, bool bothSides = false) const;

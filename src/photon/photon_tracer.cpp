@@ -15,7 +15,12 @@ namespace pl {
 
 namespace {
 
-constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57;
+constexpr uint64_t kGlobalStream = 0x67bd, kCausticStream = 0xca57, kChainStream = 0xada9;
+
+// Photon path `index`'s own stream of random numbers, for the map `stream` (global or caustic).
+Rng photonStream(uint64_t seed, uint64_t stream, uint64_t index) {
+  return Rng::hashed(mix64(seed ^ (stream << 32) ^ stream), index);
+}
 
 }  // namespace
 
@@ -94,6 +99,79 @@ void tracePath(const Scene& scene, const PhotonTracingOptions& o, uint64_t index
   tracePath(scene, o, e, lambda, draws, causticMode, out);
 }
 
+// A photon path's random numbers as a point u of the primary sample space, drawn lazily
+// (Kelemen et al. 2002): fresh from `rng`, or, for a proposal, the chain state's coordinate moved
+// by up to ±size and wrapped into [0, 1) (the state's coordinates the proposal does not reach are
+// dropped: V and the path do not depend on them, so they stay uniform). `u` records them. Drawn
+// from an empty base, the path is the uniform tracer's, number for number (StreamDraws' order).
+struct PrimarySample {
+  Rng& rng;
+  const std::vector<float>* base = nullptr;
+  float size = 0.0f;
+  std::vector<float> u;
+  float get1D() {
+    float x = rng.uniform();
+    const size_t k = u.size();
+    if (base && k < base->size()) {
+      x = (*base)[k] + size * (2.0f * x - 1.0f);
+      x -= std::floor(x);
+      if (x >= 1.0f) x = 0.0f;  // −ε wraps to 1 − ε, which may round to 1
+    }
+    u.push_back(x);
+    return x;
+  }
+  Vec2 get2D() {
+    const float y = get1D();
+    return Vec2(get1D(), y);
+  }
+};
+
+// Iterations [begin, end) of the adaptive chain (PhotonVisibility, AdaptiveChainStats): appends
+// the state's photons at every iteration that has a state.
+void traceChain(const Scene& scene, const PhotonTracingOptions& o, uint64_t begin, uint64_t end, uint64_t count,
+                std::vector<Photon>* out, AdaptiveChainStats* st) {
+  const PhotonVisibility& visibility = *o.adaptive;
+  const EmissionTarget* target = o.target.active() ? &o.target : nullptr;
+  Rng chainRng = photonStream(o.seed, kChainStream, begin);
+  std::vector<float> state;
+  std::vector<Photon> statePhotons, trial;
+  bool hasState = false;
+  const float size = o.mutationSize;  // fixed within the chain: its kernel leaves V/V_c invariant
+  auto trace = [&](PrimarySample& u) {  // V(u): does a stored photon land in a visible point's sphere
+    trial.clear();
+    SampledWavelengths lambda;
+    const EmittedRay e = emitPhotonFrom(scene, u, count, o.spectral, &lambda, target);
+    tracePath(scene, o, e, lambda, u, false, &trial);
+    for (const Photon& ph : trial)
+      if (visibility.contains(ph.p())) return true;
+    return false;
+  };
+  for (uint64_t i = begin; i < end; ++i) {
+    Rng rng = photonStream(o.seed, kGlobalStream, i);
+    PrimarySample uniform{rng};
+    ++st->uniform;
+    if (trace(uniform)) {  // replica exchange: the uniform chain's state is visible, the chains swap
+      ++st->visible;
+      state.swap(uniform.u);
+      statePhotons.swap(trial);
+      hasState = true;
+    } else if (hasState) {
+      PrimarySample proposal{chainRng, &state, size};
+      const bool accepted = trace(proposal);
+      ++st->mutations;
+      if (accepted) {
+        ++st->accepted;
+        state.swap(proposal.u);
+        statePhotons.swap(trial);
+      }
+    }
+    if (hasState) {
+      out->insert(out->end(), statePhotons.begin(), statePhotons.end());
+      ++st->samples;
+    }
+  }
+}
+
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -114,6 +192,8 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   const int threads = resolveThreads(o.threads);
   const size_t wave = 256 * size_t(threads);
   std::atomic<bool> stopped{false};
+  const bool adaptive = o.adaptive && !causticMode;
+  std::vector<AdaptiveChainStats> chainStats(adaptive ? chunks : 0);
   for (size_t first = 0; first < chunks && !stopped; first += wave) {
     const size_t last = std::min(chunks, first + wave);
     for (size_t c = first; c < last; ++c) buffers[c].reserve(causticMode ? chunkSize / 4 : 3 * chunkSize);
@@ -127,7 +207,10 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
       // Appended through a vector of this thread's own, published once: neighbouring chunks'
       // vector headers share a cache line.
       std::vector<Photon> photons = std::move(buffers[c]);
-      for (uint64_t i = c * chunkSize; i < end; ++i) tracePath(scene, o, i, count, causticMode, &photons);
+      if (adaptive)
+        traceChain(scene, o, c * chunkSize, end, count, &photons, &chainStats[c]);
+      else
+        for (uint64_t i = c * chunkSize; i < end; ++i) tracePath(scene, o, i, count, causticMode, &photons);
       buffers[c] = std::move(photons);
     });
   }
@@ -141,11 +224,33 @@ PhotonMap traceMap(const Scene& scene, const PhotonTracingOptions& o, uint64_t c
   // Chunks in order: the same map whatever the thread count.
   if (!map.build(std::move(buffers), o.budget)) stats->complete = false;
   map.setFluxIsXYZ(o.spectral);
+  if (adaptive) {
+    for (const AdaptiveChainStats& c : chainStats) stats->chain.add(c);
+    const AdaptiveChainStats& c = stats->chain;
+    // Φ = V̂_c·(1/N_chain)·Σ f(u_j) over the chain, each photon stored with f/count.
+    if (c.samples) map.setFluxScale(float(c.visibleFraction() * double(count) / double(c.samples)));
+  }
   stats->buildSeconds += since(t1);
   return map;
 }
 
 }  // namespace
+
+PhotonVisibility::PhotonVisibility(const std::vector<Sphere>& spheres) {
+  float r2 = 0.0f;
+  for (const Sphere& s : spheres) r2 = std::max(r2, s.r2);
+  // No sphere with a radius: an empty grid, in which nothing is visible.
+  grid_.build(r2 > 0 ? spheres : std::vector<Sphere>(), std::sqrt(r2));
+}
+
+bool PhotonVisibility::contains(const Vec3& x) const {
+  bool inside = false;
+  grid_.query(x, [&](const Sphere& s) {
+    const Vec3 d = s.p - x;
+    inside |= glm::dot(d, d) <= s.r2;
+  });
+  return inside;
+}
 
 void retargetEmission(const Scene& scene, const EmissionTarget& target, float uPick, const Vec2& uDisc, EmittedRay* e) {
   // The lights at infinity emit from the plane one scene radius R before the scene's centre c,
@@ -176,7 +281,7 @@ void retargetEmission(const Scene& scene, const EmissionTarget& target, float uP
 
 EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,
                       bool spectral, SampledWavelengths* lambda, const EmissionTarget* target) {
-  *rng = Rng::hashed(mix64(seed ^ (stream << 32) ^ stream), index);  // photon i's stream: (seed, map, i)
+  *rng = photonStream(seed, stream, index);
   SampledWavelengths own;
   StreamDraws draws{*rng};
   return emitPhotonFrom(scene, draws, count, spectral, lambda ? lambda : &own, target);

@@ -4,6 +4,7 @@
 // so the stored flux is an unbiased estimate of the light arriving at the surfaces.
 #pragma once
 #include "core/rng.h"
+#include "photon/hash_grid.h"
 #include "photon/photon_map.h"
 
 namespace pl {
@@ -23,6 +24,45 @@ struct EmissionTarget {
   bool active() const { return radius > 0 && fraction > 0; }
 };
 
+// What the camera sees, as the photons' visibility function V of robust adaptive photon tracing
+// (Hachisuka & Jensen 2011): a photon path is visible when one of the photons it stores lies
+// inside the gather sphere of one of the visible points a pass gathers at.
+class PhotonVisibility {
+ public:
+  struct Sphere {
+    Vec3 p;
+    float r2;  // the point's squared gather radius
+  };
+  explicit PhotonVisibility(const std::vector<Sphere>& spheres);
+  bool contains(const Vec3& x) const;
+
+ private:
+  HashGrid<Sphere> grid_;  // cells from the largest radius; each sphere's own radius is tested
+};
+
+// Robust adaptive photon tracing (Hachisuka & Jensen 2011): photon paths as points u of the
+// primary sample space [0,1)^∞ (Kelemen et al. 2002), sampled by a Markov chain whose stationary
+// density is V(u)/V_c, V_c = ∫V. Each iteration draws a uniform u (the uniform tracer's own path);
+// if it is visible the chain takes it (replica exchange with the uniform chain), otherwise
+// the chain proposes its state moved by up to ±d per coordinate (wrapping around) and keeps it
+// if visible. d is fixed within a trace, so that every state is a sample of V/V_c; the caller
+// adapts it between traces towards the acceptance rate 0.234 (Andrieu & Thoms 2008): adapted
+// within a chain, d shrank where proposals failed and kept the chain there. The
+// state's photons are stored every iteration; the map's flux scale V̂_c·N/N_chain, with V̂_c the
+// uniform draws' visible fraction, makes it estimate what the uniform map does, where
+// the camera sees. Each chunk of 4096 iterations is a chain of its own, started at its first
+// visible uniform path (a rejection sample of V/V_c: no burn-in), so the map is the same
+// whatever the thread count.
+struct AdaptiveChainStats {
+  uint64_t uniform = 0, visible = 0;  // uniform paths drawn, and those visible
+  uint64_t samples = 0;               // iterations with a chain state (its photons stored)
+  uint64_t mutations = 0, accepted = 0;
+  void add(const AdaptiveChainStats& o) {
+    uniform += o.uniform, visible += o.visible, samples += o.samples, mutations += o.mutations, accepted += o.accepted;
+  }
+  double visibleFraction() const { return uniform ? double(visible) / double(uniform) : 0.0; }
+};
+
 struct PhotonTracingOptions {
   uint64_t globalPaths = 200000;   // emitted paths for the global map (--photons)
   uint64_t causticPaths = 200000;  // emitted paths for the caustic map (--caustic-photons)
@@ -40,6 +80,10 @@ struct PhotonTracingOptions {
   // and pppm's direct photons: their direct light is MIS) keeps its map and kd-tree smaller.
   // The paths and their random draws are the same whatever is stored.
   uint8_t store = Photon::kAcceptAll;
+  // Given: the global map's paths come from the adaptive chain towards this visibility (its
+  // `globalPaths` iterations each draw a uniform path and may draw a mutation).
+  const PhotonVisibility* adaptive = nullptr;
+  float mutationSize = 0.1f;  // the adaptive chain's d
 };
 
 struct PhotonMaps {
@@ -49,6 +93,7 @@ struct PhotonMaps {
   PhotonMap global, caustic;
   bool complete = true;  // false: the budget expired (or an interrupt came) before the maps were built
   uint64_t rays = 0;  // rays traced, for benchmarks
+  AdaptiveChainStats chain;  // with adaptive sampling
   double traceSeconds = 0, buildSeconds = 0;
 };
 
