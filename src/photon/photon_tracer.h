@@ -46,8 +46,9 @@ class PhotonVisibility {
 // if it is visible the chain takes it (replica exchange with the uniform chain), otherwise
 // the chain proposes its state moved by up to ±d per coordinate (wrapping around) and keeps it
 // if visible. d is fixed within a trace, so that every state is a sample of V/V_c; the caller
-// adapts it between traces towards the acceptance rate 0.234 (Andrieu & Thoms 2008): adapted
-// within a chain, d shrank where proposals failed and kept the chain there. The
+// adapts it between traces towards the acceptance rate 0.234 (Andrieu & Thoms 2008). (A d
+// adapted within the chain depends on its past: it shrinks where proposals fail and keeps the
+// chain there, so the states are no longer samples of V/V_c.) The
 // state's photons are stored every iteration; the map's flux scale V̂_c·N/N_chain, with V̂_c the
 // uniform draws' visible fraction, makes it estimate what the uniform map does, where
 // the camera sees. Each chunk of 4096 iterations is a chain of its own, started at its first
