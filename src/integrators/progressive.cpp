@@ -1,5 +1,6 @@
 #include "integrators/progressive.h"
 
+#include "core/exact_sum.h"
 #include "core/parallel.h"
 #include "render/visible_probe.h"
 #include "spectral/spectral.h"
@@ -155,9 +156,17 @@ double meanRadius(const std::vector<ProgressiveStats>& stats) {
   return stats.empty() ? 0.0 : sum / stats.size();
 }
 
+namespace {
+// A pixel's memory in the largest of the three: two gather points each, and sppm's statistics
+// and sums or pppm's eye-pass results and exact sums (core/exact_sum.h), whichever is larger.
+constexpr size_t kPassPixelBytes =
+    2 * sizeof(VisiblePoint) + sizeof(uint32_t) +
+    std::max(2 * sizeof(ProgressiveStats) + 6 * sizeof(double) + 3 * sizeof(float),
+             3 * sizeof(ExactSum) + sizeof(Spectrum) + sizeof(SampledWavelengths));
+}  // namespace
+
 PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const ProgressiveOptions& o)
-    : RenderSession(scene, io, 2 * (sizeof(VisiblePoint) + sizeof(ProgressiveStats)) + 6 * sizeof(double) + 3 * sizeof(float) + sizeof(uint32_t),
-                    "progressive image") {
+    : RenderSession(scene, io, kPassPixelBytes, "progressive image") {
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
   photonsPerPass = o.photonsPerPass > 0 ? o.photonsPerPass : defaultPhotonsPerPass(width, height);
   if (o.targetView) target = visibleEmissionTarget(scene, width, height, initialRadius);
