@@ -36,12 +36,7 @@ ImageRGB PPMIntegrator::render(const Scene& scene, const RenderOptions& io, Rend
 
   auto pass = [&](int p) {
     // Adaptive: towards the hit points and their current radii.
-    std::unique_ptr<PhotonVisibility> visibility;
-    if (o.adaptive) {
-      std::vector<PhotonVisibility::Sphere> spheres;
-      for (size_t i = 0; i < pixels; ++i) addVisibleSphere(hitPoints[i], stats[i].R2, &spheres);
-      visibility = std::make_unique<PhotonVisibility>(spheres);
-    }
+    auto visibility = passVisibility(o, pixels, [&](size_t i, auto& add) { add(hitPoints[i], stats[i].R2); });
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
                                        Photon::kAcceptAll, visibility.get(), setup.mutationSize);
     if (!maps.complete) return false;  // the budget expired: this pass is dropped whole

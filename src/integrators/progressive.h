@@ -163,10 +163,17 @@ PhotonMaps tracePassPhotons(const Scene& scene, uint64_t seed, int pass, uint64_
                             uint8_t store = Photon::kAcceptAll, const PhotonVisibility* adaptive = nullptr,
                             float mutationSize = 0.1f);
 
-// A gather point with its squared radius, as adaptive photon tracing's visibility sees it
-// (nothing for an invalid point).
-inline void addVisibleSphere(const VisiblePoint& vp, double r2, std::vector<PhotonVisibility::Sphere>* spheres) {
-  if (vp.valid) spheres->push_back({vp.hit.p, float(r2)});
+// A pass's visibility for adaptive photon sampling (null with uniform sampling): every pixel's
+// gather points with their squared radii, which pointsOf(i, add) hands to add(point, r²).
+template <class PointsOf>
+std::unique_ptr<PhotonVisibility> passVisibility(const ProgressiveOptions& o, size_t pixels, PointsOf&& pointsOf) {
+  if (!o.adaptive) return nullptr;
+  std::vector<PhotonVisibility::Sphere> spheres;
+  auto add = [&](const VisiblePoint& vp, double r2) {
+    if (vp.valid) spheres.push_back({vp.hit.p, float(r2)});
+  };
+  for (size_t i = 0; i < pixels; ++i) pointsOf(i, add);
+  return std::make_unique<PhotonVisibility>(spheres);
 }
 
 // The start of pixel (x, y)'s eye path in pass `pass` (PPM's single eye pass is pass 0).

@@ -43,15 +43,10 @@ ImageRGB SPPMIntegrator::render(const Scene& scene, const RenderOptions& io, Ren
     });
     // 2. Photon pass (dropped whole if the budget expires: the pixels keep their earlier passes),
     // adaptive: towards this pass's gather points and their radii.
-    std::unique_ptr<PhotonVisibility> visibility;
-    if (o.adaptive) {
-      std::vector<PhotonVisibility::Sphere> spheres;
-      for (size_t i = 0; i < pixels; ++i) {
-        addVisibleSphere(visible[i], stats[i].R2, &spheres);
-        addVisibleSphere(causticPoints[i], causticStats[i].R2, &spheres);
-      }
-      visibility = std::make_unique<PhotonVisibility>(spheres);
-    }
+    auto visibility = passVisibility(o, pixels, [&](size_t i, auto& add) {
+      add(visible[i], stats[i].R2);
+      add(causticPoints[i], causticStats[i].R2);
+    });
     PhotonMaps maps = tracePassPhotons(scene, ro.seed, p, setup.photonsPerPass, threads, o.maxDepth, ro.spectral, &budget, setup.target,
                                        kGatheredPhotons, visibility.get(), setup.mutationSize);
     if (!maps.complete) return false;
