@@ -606,3 +606,71 @@ TEST_CASE("adaptive photon tracing: a ball on a floor under the sun - the visibl
     CHECK(std::abs(m - E) < 5 * se);
   }
 }
+
+TEST_CASE("targeted emission from an area light: the flux through a disc is ∫E dA inside the target and outside it, with a fraction of the noise inside") {
+  // A 6 m square Lambertian emitter (L = 1) 3 m above the plane y = 0, facing down; the target
+  // is the unit sphere at the origin, q = 1/2. Half the photons leave in the cone from their
+  // point on the light around the sphere, the rest cosine-distributed; each carries
+  // Φ/(pick·N)·p_light(ω)/p_mixture(ω). The flux crossing y = 0 through a disc must be
+  // ∫ E dA, E(x) = L ∫ h²/|y − x|⁴ dA_y (cosθ = cosθ' = h/|y − x|), by a midpoint rule over
+  // the light and the disc: through a disc inside the target (r = 0.5 m at the origin) and
+  // one outside it (r = 1 m at x = 4 m), each within 4 standard errors. Inside, the standard
+  // error must be below half the untargeted one.
+  const float h = 3.0f, half = 3.0f;
+  Scene scene;
+  uint32_t light = scene.addMaterial({"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))), Spectrum(1.0f), false});
+  addQuad(scene, {-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}, light);
+  scene.commit();
+  EmissionTarget target;
+  target.center = Vec3(0.0f);
+  target.radius = 1.0f;
+  target.areaLights = true;
+  struct Disc {
+    Vec3 centre;
+    float radius;
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};  // untargeted, targeted
+  };
+  Disc discs[2] = {{Vec3(0.0f), 0.5f}, {Vec3(4, 0, 0), 1.0f}};
+  auto expectedFlux = [&](const Disc& d) {
+    const int nl = 120, nr = 10, na = 24;
+    double flux = 0;
+    for (int ir = 0; ir < nr; ++ir)
+      for (int ia = 0; ia < na; ++ia) {
+        const double rr = d.radius * (ir + 0.5) / nr, a = 2 * kPi * (ia + 0.5) / na;
+        const double x = d.centre.x + rr * std::cos(a), z = d.centre.z + rr * std::sin(a);
+        const double dA = d.radius * d.radius / nr * (ir + 0.5) / nr * 2 * kPi / na;  // r dr dφ
+        double E = 0;
+        for (int i = 0; i < nl; ++i)
+          for (int j = 0; j < nl; ++j) {
+            const double lx = -half + 2 * half * (i + 0.5) / nl, lz = -half + 2 * half * (j + 0.5) / nl;
+            const double r2 = (lx - x) * (lx - x) + (lz - z) * (lz - z) + double(h) * h;
+            E += double(h) * h / (r2 * r2);
+          }
+        flux += E * (2 * half / nl) * (2 * half / nl) * dA;
+      }
+    return flux;  // L = 1
+  };
+  const uint64_t N = 400000;
+  for (int aimed = 0; aimed < 2; ++aimed)
+    for (uint64_t i = 0; i < N; ++i) {
+      Rng rng(0);
+      EmittedRay e = emitPhoton(scene, 7, i, N, 0, &rng, false, nullptr, aimed ? &target : nullptr);
+      if (!(e.ray.d.y < 0)) continue;
+      const Vec3 p = e.ray.o + (-e.ray.o.y / e.ray.d.y) * e.ray.d;
+      for (Disc& d : discs)
+        if (glm::length(p - d.centre) < d.radius) d.sum[aimed] += e.flux.g, d.sum2[aimed] += double(e.flux.g) * e.flux.g;
+    }
+  double se[2][2];
+  for (int k = 0; k < 2; ++k)
+    for (int aimed = 0; aimed < 2; ++aimed) {
+      const Disc& d = discs[k];
+      const double expected = expectedFlux(d);
+      se[k][aimed] = std::sqrt(std::max(d.sum2[aimed] - d.sum[aimed] * d.sum[aimed] / N, 0.0));
+      INFO("disc at x = " << d.centre.x << (aimed ? ", aimed" : ", not aimed") << ": " << d.sum[aimed] << " against " << expected
+                          << " (standard error " << se[k][aimed] << ")");
+      CHECK(se[k][aimed] < 0.05 * expected);
+      CHECK(std::abs(d.sum[aimed] - expected) < 4 * se[k][aimed]);
+    }
+  INFO("inside the target: standard error " << se[0][1] << " aimed, " << se[0][0] << " not");
+  CHECK(se[0][1] < 0.5 * se[0][0]);
+}

@@ -410,7 +410,7 @@ TEST_CASE("photons per pass: sppm and pppm unset, the image's pixel count (resol
   }
 }
 
-TEST_CASE("photon target: a plate in a scene 35 m across under a sky and under the sun - E per pixel from ppm's photons aimed at the view and over the scene's disc, the first with a fraction of the noise") {
+TEST_CASE("photon target: a plate in a scene 35 m across under a sky, under the sun and under a 20 m area light - E per pixel from ppm's photons aimed at the view and not, the first with a fraction of the noise") {
   // The camera sees only the middle of a 1 m plate; a 20 m floor 20 m below makes the scene's
   // sphere 17 m in radius. PPM's light is all photons, so its image is the photons' irradiance:
   // L = ρ/π·E with E = π·L_sky under a constant sky and E⊥·cosθ under the sun, in every pixel,
@@ -420,20 +420,44 @@ TEST_CASE("photon target: a plate in a scene 35 m across under a sky and under t
   // view (from the two seeds' differences) must be below a tenth of the other's. Aimed at the view, the image is held to the closed form
   // per pixel; over the scene, at ~40% noise per pixel here, by its image mean within 4 standard
   // errors (from 4×4-pixel regions' seed differences; per pixel it is the contract test's).
-  for (int sky = 0; sky < 2; ++sky) {
+  // The third light is a 20 m square Lambertian emitter (L = 1) 3 m above the plate, facing
+  // down: E(x) = L ∫ h²/|y − x|⁴ dA_y by a midpoint rule over the light; aimed
+  // (--aim-area-lights on), half its photons leave towards the target sphere instead of over the
+  // whole hemisphere.
+  auto areaE = [](const Vec3& x) {
+    const int n = 200;
+    const double h = 3.0, half = 10.0, cell = 2 * half / n;
+    double E = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double lx = -half + cell * (i + 0.5), lz = -half + cell * (j + 0.5);
+        const double r2 = (lx - x.x) * (lx - x.x) + (lz - x.z) * (lz - x.z) + h * h;
+        E += h * h / (r2 * r2) * cell * cell;
+      }
+    return E;
+  };
+  for (int sky = 0; sky < 3; ++sky) {
+    const bool area = sky == 2;
     const Vec3 w = glm::normalize(Vec3(0.3f, -1.0f, 0.2f));
     Scene scene;
     addQuad(scene, {-0.5f, 0, -0.5f}, {-0.5f, 0, 0.5f}, {0.5f, 0, 0.5f}, {0.5f, 0, -0.5f}, lambertian(scene, 0.5f));
     addQuad(scene, {-10, -20, -10}, {-10, -20, 10}, {10, -20, 10}, {10, -20, -10}, lambertian(scene, 0.5f));
-    if (sky) scene.addLight(EnvironmentLight::constant(Spectrum(0.7f)));
-    else scene.addLight(std::make_unique<DirectionalLight>(w, Spectrum(2.0f)));
+    if (area) {
+      uint32_t light = scene.addMaterial({"light", std::make_unique<Lambertian>(ColorTexture(Spectrum(0.0f))), Spectrum(1.0f), false});
+      addQuad(scene, {-10, 3, -10}, {10, 3, -10}, {10, 3, 10}, {-10, 3, 10}, light);
+    } else if (sky) {
+      scene.addLight(EnvironmentLight::constant(Spectrum(0.7f)));
+    } else {
+      scene.addLight(std::make_unique<DirectionalLight>(w, Spectrum(2.0f)));
+    }
     scene.setCamera(lookingDown(1.0f, 0.6f));
     scene.commit();
-    const double L = sky ? 0.5 * 0.7 : 0.5 / kPi * 2.0 * std::abs(w.y);
-    ImageRGB expected = expectedFloorImage(scene, 16, 16, [&](const Vec3&) { return L; });
+    const double uniformL = sky ? 0.5 * 0.7 : 0.5 / kPi * 2.0 * std::abs(w.y);
+    ImageRGB expected = expectedFloorImage(scene, 16, 16, [&](const Vec3& x) { return area ? 0.5 / kPi * areaE(x) : uniformL; });
+    const double L = meanOf(expected);
     double variance[2];
     for (int visible = 0; visible < 2; ++visible) {
-      INFO((sky ? "constant sky" : "sun") << ", photon target " << (visible ? "view" : "scene"));
+      INFO((area ? "area light" : sky ? "constant sky" : "sun") << ", photon target " << (visible ? "view" : "scene"));
       auto render = [&](uint64_t seed) {
         RenderOptions ro;
         ro.width = ro.height = 16;
@@ -443,6 +467,7 @@ TEST_CASE("photon target: a plate in a scene 35 m across under a sky and under t
         p.setNumber("photons_per_pass", 200000);
         p.setNumber("radius", 0.05);
         p.setText("photon_target", visible ? "view" : "scene");
+        if (area) p.setText("aim_area_lights", "on");
         return makeIntegrator("ppm", p, ro)->render(scene, ro, nullptr);
       };
       ImageRGB a = render(1), b = render(2);

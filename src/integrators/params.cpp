@@ -165,6 +165,14 @@ ParamSpec photonTarget() {
                 "view", {"view", "scene"});
 }
 
+ParamSpec aimAreaLights() {
+  return choice("aim_area_lights",
+                "with photon_target view, area lights aim half of their photons at what the camera sees too (flux weighted by the "
+                "mixture's density: unbiased): for a close-up under a large emitter, not for light that reaches the view by "
+                "bounces",
+                "off", {"off", "on"});
+}
+
 ParamSpec photonSampling() {
   return choice("photon_sampling",
                 "how photon paths are drawn: uniform: independently, by the lights' emission and the BSDFs; adaptive: a Markov "

@@ -98,6 +98,7 @@ ParamSpec progressiveRadius();
 // --photon-target: where photons from lights at infinity start (photon/photon_tracer.h,
 // EmissionTarget): half of them aimed at the region in view, or all over the scene's disc.
 ParamSpec photonTarget();
+ParamSpec aimAreaLights();
 ParamSpec photonSampling();
 // --sampler (core/sampler.h): independent, or Sobol' points for the first `slots` draws of each
 // path, `paths` and `over` saying which paths and over what their points are indexed;

@@ -20,6 +20,7 @@ void PhotonIntegrator::preprocess(const Scene& scene, uint64_t seed, int threads
   t.budget = &budget;
   if (o_.targetView && o_.width > 0 && o_.height > 0)
     t.target = visibleEmissionTarget(scene, o_.width, o_.height, o_.density.radius > 0 ? o_.density.radius : o_.density.maxRadius);
+  t.target.areaLights = o_.aimAreaLights;
   maps_ = tracePhotons(scene, t);
   if (!maps_.complete) {
     // The render loop sees the same expired budget and takes no sample.
@@ -155,6 +156,7 @@ PhotonOptions photonOptions(const ParamSet& p, const RenderOptions& image) {
   o.aov = p.choice("aov") == "radiance" ? "" : p.choice("aov");
   o.spectral = image.spectral;
   o.targetView = p.choice("photon_target") != "scene";
+  o.aimAreaLights = p.choice("aim_area_lights") == "on";
   o.width = image.width, o.height = image.height;
   return o;
 }
@@ -179,7 +181,7 @@ std::vector<ParamSpec> photonParams() {
   gather.lo = 0, gather.hi = 100000;
   ParamSpec aov = params::choice("aov", "debug image instead of radiance: photons found, or the radius used", "radiance",
                                  {"radiance", "photons", "radius"});
-  return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov, params::photonTarget()};
+  return {params::spp(), params::maxDepth(), photons, caustic, k, radius, maxRadius, kernel, gather, aov, params::photonTarget(), params::aimAreaLights()};
 }
 
 // The estimate's defaults made explicit (resolveDensity), so that the metadata records them.

@@ -14,6 +14,7 @@ struct PhotonOptions {
   std::string aov;                   // "" (radiance), "photons" or "radius"
   bool spectral = false;             // photons carry wavelengths (with RenderOptions::spectral)
   bool targetView = true;       // --photon-target view: sky and sun photons aimed at the view
+  bool aimAreaLights = false;   // --aim-area-lights on: area lights' photons too
   int width = 0, height = 0;         // the image, for the view's target
 };
 

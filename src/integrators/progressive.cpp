@@ -11,7 +11,7 @@ namespace pl {
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel) {
   return {params::passes(), params::photonsPerPass(photonsPerPixel ? "" : "100000"), params::alpha(),
           params::progressiveRadius(), params::maxDepth(), params::photonTarget(),
-          params::photonSampling()};
+          params::aimAreaLights(), params::photonSampling()};
 }
 
 ProgressiveOptions progressiveOptions(const ParamSet& p) {
@@ -22,6 +22,7 @@ ProgressiveOptions progressiveOptions(const ParamSet& p) {
   o.radius = float(p.real("radius"));
   o.maxDepth = int(p.integer("max_depth"));
   o.targetView = p.choice("photon_target") != "scene";
+  o.aimAreaLights = p.choice("aim_area_lights") == "on";
   o.adaptive = p.choice("photon_sampling") == "adaptive";
   return o;
 }
@@ -170,6 +171,7 @@ PassSetup::PassSetup(const Scene& scene, const RenderOptions& io, const Progress
   initialRadius = o.radius > 0 ? o.radius : defaultRadius(scene, width, height).radius;
   photonsPerPass = o.photonsPerPass > 0 ? o.photonsPerPass : defaultPhotonsPerPass(width, height);
   if (o.targetView) target = visibleEmissionTarget(scene, width, height, initialRadius);
+  target.areaLights = o.aimAreaLights;
   progressNote = [this] {
     const double f = visibleFraction();
     return f >= 0 ? "  photons near the view " + percentText(f) : std::string();

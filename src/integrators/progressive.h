@@ -24,10 +24,11 @@ struct ProgressiveOptions {
   float radius = 0.0f;               // initial radius; 0 = defaultRadius()
   int maxDepth = 64;
   bool targetView = true;  // --photon-target view: photons from lights at infinity aimed at the view
+  bool aimAreaLights = false;  // --aim-area-lights on: area lights' photons aimed at the view too
   bool adaptive = false;   // --photon-sampling adaptive: Hachisuka & Jensen 2011's chain (photon_tracer.h)
 };
 // What the three declare: passes, photons_per_pass, alpha, radius, max_depth, photon_target,
-// photon_sampling.
+// aim_area_lights, photon_sampling.
 // photonsPerPixel: photons_per_pass defaults to the pixel count (sppm and pppm, which re-trace
 // their eye pass every pass), else to 100,000 (ppm, whose hit points are traced once).
 std::vector<ParamSpec> progressiveParams(bool photonsPerPixel);

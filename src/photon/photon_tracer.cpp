@@ -35,6 +35,9 @@ EmittedRay emitPhotonFrom(const Scene& scene, Draws& draws, uint64_t count, bool
   if (target && (emitted.light->isInfinite() || emitted.light->isDeltaDirection())) {
     const float uPick = draws.get1D();
     retargetEmission(scene, *target, uPick, draws.get2D(), &emitted.e);
+  } else if (target && target->areaLights && !emitted.light->isDelta()) {  // an area light
+    const float uPick = draws.get1D();
+    retargetAreaEmission(*emitted.light, *target, uPick, draws.get2D(), &emitted.e);
   }
   emitted.e.flux *= 1.0f / (emitted.pick * float(count));  // one division, not three
   return emitted.e;
@@ -277,6 +280,26 @@ void retargetEmission(const Scene& scene, const EmissionTarget& target, float uP
   e->flux *= (1.0f / (kPi * R * R)) / pdf;
   e->ray.o = y;
   e->pdfPos = pdf;
+}
+
+void retargetAreaEmission(const Light& light, const EmissionTarget& target, float uPick, const Vec2& uCone, EmittedRay* e) {
+  const Vec3 y = e->ray.o, toCentre = target.center - y;
+  const float d2 = glm::dot(toCentre, toCentre), r2 = target.radius * target.radius;
+  if (!(d2 > r2)) return;  // inside the target sphere: every direction may reach it; no cone
+  const float sin2 = r2 / d2, cosMax = std::sqrt(std::max(0.0f, 1.0f - sin2));
+  const float solidAngle = 2.0f * kPi * sin2 / (1.0f + cosMax);  // 2π(1 − cosθmax), without cancellation
+  const Frame cone(toCentre / std::sqrt(d2));
+  const float q = target.fraction;
+  Vec3 w = e->ray.d;
+  if (uPick < q) w = cone.toWorld(sampleUniformCone(uCone, cosMax));
+  float pdfPos, pdfDir;
+  light.pdfLe(Ray{y, w}, e->n, &pdfPos, &pdfDir);
+  const float pdf = (glm::dot(w, cone.n) >= cosMax ? q / solidAngle : 0.0f) + (1 - q) * pdfDir;
+  // The light's flux is Le·cosθ/(p_A·p_light(ω)) for its own ω; for any ω it emits towards,
+  // Le·cosθ/(p_A·p(ω)) = flux·p_light(ω)/p(ω). A direction it does not emit towards carries nothing.
+  e->flux = pdfDir > 0 && pdf > 0 ? e->flux * (pdfDir / pdf) : Spectrum(0.0f);
+  e->ray.d = w;
+  e->pdfDir = pdf;
 }
 
 EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_t count, uint64_t stream, Rng* rng,

@@ -11,7 +11,9 @@ namespace pl {
 
 // Emission aimed at what the camera sees (--photon-target view). A light at infinity (a
 // sky, the sun) emits over the disc covering the whole scene, so a model in view that is small
-// against the scene receives few of its photons. With a target, a fraction q of such photons
+// against the scene receives few of its photons; a large area light spreads its photons over
+// its whole hemisphere. With a target, a fraction q of an area light's photons leave towards the
+// target sphere (retargetAreaEmission), and a fraction q of the photons from lights at infinity
 // start on the disc covering the target sphere instead (the region the camera sees), the rest
 // on the scene's disc; each photon's flux is divided by the mixture's area density
 //   p(y) = q·1[y ∈ D_T]/(π r_T²) + (1 − q)·1[y ∈ D_S]/(π R²)
@@ -21,6 +23,7 @@ struct EmissionTarget {
   Vec3 center{0.0f};
   float radius = 0.0f;    // 0: no target, uniform emission
   float fraction = 0.5f;  // q
+  bool areaLights = false;  // area lights aimed too (--aim-area-lights on)
   bool active() const { return radius > 0 && fraction > 0; }
 };
 
@@ -107,6 +110,15 @@ EmittedRay emitPhoton(const Scene& scene, uint64_t seed, uint64_t index, uint64_
 // direction e->ray.d) to a sample of EmissionTarget's mixture and reweights its flux. Draws a
 // 1D and a 2D number.
 void retargetEmission(const Scene& scene, const EmissionTarget& target, float uPick, const Vec2& uDisc, EmittedRay* e);
+
+// Aims a ray emitted by an area light at EmissionTarget's sphere: with probability q its
+// direction is drawn uniformly in the cone from its origin around the sphere (when the origin
+// lies outside it), otherwise kept as the light drew it. The flux is multiplied by the light's
+// own direction density over the mixture's,
+//   p(ω) = q·1[ω ∈ cone]/Ω_cone + (1 − q)·p_light(ω)
+// (one-sample MIS, balance heuristic, as retargetEmission), which is exact for emission that
+// does not depend on direction (Lambertian, as every area light here). Draws a 1D and a 2D number.
+void retargetAreaEmission(const Light& light, const EmissionTarget& target, float uPick, const Vec2& uCone, EmittedRay* e);
 
 PhotonMaps tracePhotons(const Scene& scene, const PhotonTracingOptions& options);
 
