@@ -701,3 +701,27 @@ def test_compare_bench_interleaves_two_builds_and_passes_bench_options(tmp_path)
     for name in ("old", "new"):
         assert (tmp_path / (name + ".args")).read_text().splitlines() == ["bench --scene x.gltf"] * 2
     assert [line.split()[1] for line in r.stderr.splitlines() if line.strip().startswith("ran")] == ["old", "new", "new", "old"]
+
+
+def test_photons_in_view_table_has_every_method_and_caches_its_reference(tmp_path):
+    # The shipped view only (no download): one seed, tiny times. Every method gets a row with its
+    # ratio to the path tracer's mean; the chain's photons land near the view far more often than
+    # uniform ones (sky.gltf's glass sphere close up: most uniform photons land elsewhere); a
+    # second run reuses the cached reference.
+    import photons_in_view
+    cache, out = tmp_path / "cache", tmp_path / "out"
+    argv = ["--views", "sky.gltf", "--width", "16", "--time", "0.5", "--reference-time", "2", "--seeds", "1",
+            "--cache", str(cache), "--out", str(out)]
+    assert photons_in_view.main(argv) == 0
+    text = (out / "table.md").read_text()
+    rows = [line for line in text.splitlines() if line.startswith("| sky.gltf")]
+    assert [r.split("|")[2].strip() for r in rows] == [m[0] for m in photons_in_view.METHODS]
+    assert rows[0].split("|")[5].strip() == "1.00"  # the path tracer against itself
+    visible = {r.split("|")[2].strip(): float(r.split("|")[6].strip().rstrip("%")) for r in rows[1:]}
+    assert visible["sppm, adaptive"] > 2 * visible["sppm, uniform"]
+    assert visible["pppm, adaptive"] > 2 * visible["pppm, uniform"]
+    reference = list(cache.glob("reference-*.exr"))
+    assert len(reference) == 1
+    stamp = reference[0].stat().st_mtime_ns
+    assert photons_in_view.main(argv) == 0
+    assert reference[0].stat().st_mtime_ns == stamp
